@@ -1,0 +1,51 @@
+#pragma once
+// Every triangle against every ray, in single precision with the same triangle tests as the
+// trees: the baseline a structure must beat, and the smallest example of the structure interface
+// (build, intersect, occluded, stats).
+#include <vector>
+
+#include "accel/accel_stats.h"
+#include "core/intersect_triangle.h"
+#include "core/mesh.h"
+
+namespace trident {
+
+class BruteForce {
+public:
+    static BruteForce build(const Mesh& mesh);
+
+    template <TriangleTest Test, class Counters>
+    Hit intersect(const Ray& ray, Counters& counters) const {
+        const TriangleIntersector<Test> isect(ray);
+        Hit best;
+        best.t = ray.tmax;
+        TriangleHit h;
+        for (std::size_t i = 0; i < triangles_.size(); ++i) {
+            counters.test_triangle();
+            if (isect.intersect(triangles_[i], best.t, h)) best = {static_cast<TriangleId>(i), h.t, h.u, h.v};
+        }
+        if (!best.is_hit()) best.t = kInfinity;
+        return best;
+    }
+
+    template <TriangleTest Test, class Counters>
+    bool occluded(const Ray& ray, Counters& counters) const {
+        const TriangleIntersector<Test> isect(ray);
+        TriangleHit h;
+        for (const Triangle& tri : triangles_) {
+            counters.test_triangle();
+            if (isect.intersect(tri, ray.tmax, h)) return true;
+        }
+        return false;
+    }
+
+    Hit intersect(const Ray& ray) const { NoCounters c; return intersect<TriangleTest::watertight>(ray, c); }
+    bool occluded(const Ray& ray) const { NoCounters c; return occluded<TriangleTest::watertight>(ray, c); }
+    const AccelStats& stats() const { return stats_; }
+
+private:
+    std::vector<Triangle> triangles_;
+    AccelStats stats_;
+};
+
+}  // namespace trident

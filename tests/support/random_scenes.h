@@ -1,0 +1,58 @@
+#pragma once
+// Random triangle soups and rays for property tests, deterministic by seed.
+#include <random>
+#include <vector>
+
+#include "core/mesh.h"
+#include "core/ray.h"
+
+namespace trident::testing {
+
+/// `count` triangles with corners in [-1, 1]^3 around random centres; `size` scales each triangle.
+inline Mesh random_soup(std::size_t count, std::uint32_t seed, float size = 0.2f) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> centre(-1.0f, 1.0f), offset(-size, size);
+    Mesh mesh;
+    for (std::size_t i = 0; i < count; ++i) {
+        const Vec3f c{centre(rng), centre(rng), centre(rng)};
+        const auto a = mesh.add_vertex(c + Vec3f{offset(rng), offset(rng), offset(rng)});
+        const auto b = mesh.add_vertex(c + Vec3f{offset(rng), offset(rng), offset(rng)});
+        const auto d = mesh.add_vertex(c + Vec3f{offset(rng), offset(rng), offset(rng)});
+        mesh.add_triangle(a, b, d);
+    }
+    return mesh;
+}
+
+/// Rays from a sphere of radius `radius` around the box centre towards random points inside the
+/// box; every `axis_every`-th ray is axis-parallel (with +0 and -0 in the other components).
+inline std::vector<Ray> random_rays(const Aabb& box, std::size_t count, std::uint32_t seed, int axis_every = 5) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f), sym(-1.0f, 1.0f);
+    const Vec3f centre = box.center(), extent = box.extent();
+    const float radius = length(extent) + 1e-3f;
+    std::vector<Ray> rays;
+    rays.reserve(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        const Vec3f target = box.lo + Vec3f{unit(rng) * extent.x, unit(rng) * extent.y, unit(rng) * extent.z};
+        Ray ray;
+        if (axis_every > 0 && i % std::size_t(axis_every) == 0) {
+            const int axis = int(i / std::size_t(axis_every)) % 3;
+            const float sign = (i / std::size_t(3 * axis_every)) % 2 ? -1.0f : 1.0f;
+            const float zero = (i / std::size_t(6 * axis_every)) % 2 ? -0.0f : 0.0f;
+            ray.dir = Vec3f{zero, zero, zero};
+            ray.dir[axis] = sign;
+            ray.origin = target;
+            ray.origin[axis] = centre[axis] - sign * radius;
+        } else {
+            Vec3f d{sym(rng), sym(rng), sym(rng)};
+            if (dot(d, d) < 1e-6f) d = {1.0f, 0.0f, 0.0f};
+            d = normalize(d);
+            ray.origin = target - d * radius;
+            ray.dir = d;
+        }
+        rays.push_back(ray);
+    }
+    return rays;
+}
+
+}  // namespace trident::testing
