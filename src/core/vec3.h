@@ -38,7 +38,7 @@ template <class T> constexpr Vec3T<T> cross(const Vec3T<T>& a, const Vec3T<T>& b
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 template <class T> inline T length(const Vec3T<T>& a) { return std::sqrt(dot(a, a)); }
-template <class T> inline Vec3T<T> normalize(const Vec3T<T>& a) { return a * (T(1) / length(a)); }
+template <class T> inline Vec3T<T> normalize(const Vec3T<T>& a) { return a / length(a); }
 
 template <class T> constexpr Vec3T<T> min(const Vec3T<T>& a, const Vec3T<T>& b) {
     return {a.x < b.x ? a.x : b.x, a.y < b.y ? a.y : b.y, a.z < b.z ? a.z : b.z};

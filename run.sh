@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# trident's one entry point for a fresh Debian 12 machine (run as root, or with sudo available):
+#   bash run.sh bench   install what is missing, build, run the benchmark on the built-in scenes
+#   bash run.sh test    install what is missing, build (Release and ASan+UBSan), run every test
+# Extra arguments after the command are passed to the benchmark (bench) or to ctest (test).
+set -euo pipefail
+cd "$(dirname "$0")"
+
+command_name="${1:-}"
+shift || true
+jobs="$(nproc 2>/dev/null || echo 2)"
+
+packages=(build-essential cmake ninja-build pkg-config git
+          libxsimd-dev libtbb-dev libtinyobjloader-dev libstb-dev doctest-dev
+          libcli11-dev nlohmann-json3-dev libfmt-dev libembree-dev python3 python3-matplotlib)
+
+install_missing() {
+    local missing=()
+    for p in "${packages[@]}"; do
+        dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+    done
+    if [ "${#missing[@]}" -eq 0 ]; then
+        echo "run.sh: all packages present"
+        return
+    fi
+    echo "run.sh: installing ${missing[*]}"
+    local sudo=""
+    [ "$(id -u)" -eq 0 ] || sudo="sudo"
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+}
+
+build() {  # build DIR [cmake args...]
+    local dir="$1"
+    shift
+    cmake -S . -B "$dir" -G Ninja "$@" >/dev/null
+    cmake --build "$dir" -j "$jobs"
+}
+
+case "$command_name" in
+    bench)
+        install_missing
+        build build -DCMAKE_BUILD_TYPE=Release
+        if [ -x build/trident-bench ]; then
+            build/trident-bench "$@"
+        else
+            build/trident render teapot --accel "${TRIDENT_ACCEL:-bvh}" --output build/teapot.png "$@"
+        fi
+        ;;
+    test)
+        install_missing
+        build build -DCMAKE_BUILD_TYPE=Release
+        (cd build && ctest --output-on-failure -j "$jobs" "$@")
+        # The sanitizer build runs the same tests with AddressSanitizer and UndefinedBehaviorSanitizer.
+        build build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTRIDENT_SANITIZE=ON
+        (cd build-asan && TRIDENT_SANITIZED=1 ctest --output-on-failure -j "$jobs" "$@")
+        ;;
+    *)
+        echo "usage: bash run.sh bench|test [args]" >&2
+        exit 2
+        ;;
+esac

@@ -1,0 +1,192 @@
+// trident: render, inspect and list scenes with a chosen acceleration structure.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "accel/any_accel.h"
+#include "camera/camera.h"
+#include "render/hit_buffer.h"
+#include "render/shade.h"
+#include "render/trace.h"
+#include "scene/manifest.h"
+#include "scene/scene_error.h"
+#include "scene/scene_source.h"
+#include "scenes/builtin.h"
+
+namespace trident {
+namespace {
+
+constexpr std::uint32_t kMaxImageSide = 16384;
+
+struct CommonOptions {
+    std::string scene;
+    std::optional<std::filesystem::path> manifest;
+    std::string accel = "bvh";
+    std::string triangle_test = "watertight";
+    int threads = 0;
+};
+
+struct RenderOptions {
+    std::string simd = "auto";
+    std::uint32_t width = 1920, height = 1080;
+    std::string mode = "shaded";
+    std::filesystem::path output = "render.png";
+    std::optional<std::filesystem::path> dump_hits;
+};
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+AccelKind accel_kind_or_throw(const std::string& name) {
+    const auto kind = parse_accel_kind(name);
+    if (!kind) throw std::invalid_argument(fmt::format("--accel {}: unknown structure (brute, bvh, kdtree, octree)", name));
+    if (!is_built(*kind)) throw std::invalid_argument(fmt::format("--accel {}: not built yet", name));
+    return *kind;
+}
+
+TriangleTest triangle_test_or_throw(const std::string& name) {
+    if (name == "watertight") return TriangleTest::watertight;
+    if (name == "moller_trumbore" || name == "mt") return TriangleTest::moller_trumbore;
+    throw std::invalid_argument(fmt::format("--triangle-test {}: expected watertight or moller_trumbore", name));
+}
+
+/// Until the packet traversals land, every run is scalar: `auto` says so, explicit widths refuse.
+std::string simd_or_throw(const std::string& name) {
+    if (name == "auto" || name == "scalar") return "scalar";
+    if (name == "4" || name == "8" || name == "16") throw std::invalid_argument(fmt::format("--simd {}: not built yet", name));
+    throw std::invalid_argument(fmt::format("--simd {}: expected auto, scalar, 4, 8 or 16", name));
+}
+
+void add_common_options(CLI::App& command, CommonOptions& common, bool with_accel) {
+    command.add_option("scene", common.scene, "built-in scene name, path to an .obj file, or a name in --scenes")->required();
+    command.add_option("--scenes", common.manifest, "scene manifest (scenes.json) to look the scene up in");
+    if (with_accel) {
+        command.add_option("--accel", common.accel, "acceleration structure: brute|bvh|kdtree|octree");
+        command.add_option("--triangle-test", common.triangle_test, "watertight (default) or moller_trumbore");
+    }
+    command.add_option("--threads", common.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096));
+}
+
+int run_render(const CommonOptions& common, const RenderOptions& options) {
+    const AccelKind kind = accel_kind_or_throw(common.accel);
+    const TriangleTest test = triangle_test_or_throw(common.triangle_test);
+    const std::string simd = simd_or_throw(options.simd);
+    const auto mode = parse_render_mode(options.mode);
+    if (!mode) throw std::invalid_argument(fmt::format("--mode {}: expected shaded, normal, depth or heat", options.mode));
+    if (options.width == 0 || options.height == 0 || options.width > kMaxImageSide || options.height > kMaxImageSide)
+        throw std::invalid_argument(fmt::format("--width/--height {}x{}: each must lie in 1..{}", options.width,
+                                                options.height, kMaxImageSide));
+
+    const LoadedScene loaded = load_scene(common.scene, common.manifest);
+    const Scene& scene = loaded.scene;
+    const AnyAccel accel = AnyAccel::build(kind, scene.mesh);
+    const Camera camera(scene.camera, options.width, options.height);
+
+    const auto trace_start = std::chrono::steady_clock::now();
+    const std::vector<Hit> hits = trace_primary(accel, camera, test);
+    const double trace_ms = ms_since(trace_start);
+
+    Image image;
+    switch (*mode) {
+        case RenderMode::shaded: image = shade_shaded(scene, accel, camera, hits); break;
+        case RenderMode::normal: image = shade_normal(scene, camera, hits); break;
+        case RenderMode::depth: image = shade_depth(camera, hits); break;
+        case RenderMode::heat: image = shade_heat(camera, count_primary(accel, camera, test)); break;
+    }
+    write_png(options.output, image);
+    if (options.dump_hits) write_hit_buffer(*options.dump_hits, make_hit_buffer(camera.width(), camera.height(), hits));
+
+    const double rays = double(camera.width()) * camera.height();
+    fmt::print("{}: {} triangles, load {:.1f} ms, {} build {:.1f} ms, trace {:.1f} ms ({:.2f} Mrays/s, {}, {}, "
+               "{} threads), {}x{} {} -> {}\n",
+               scene.name, scene.mesh.triangle_count(), loaded.load_ms, to_string(kind), accel.stats().build_ms,
+               trace_ms, rays / trace_ms / 1000.0, simd, to_string(test),
+               tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism), camera.width(),
+               camera.height(), to_string(*mode), options.output.string());
+    return 0;
+}
+
+int run_info(const CommonOptions& common, bool accel_given) {
+    const LoadedScene loaded = load_scene(common.scene, common.manifest);
+    const Scene& scene = loaded.scene;
+    const Aabb bounds = scene.mesh.bounds();
+    fmt::print("{}: {} triangles, {} vertices, normals {}, bounds [{} {} {}]..[{} {} {}], light {}, load {:.1f} ms ({})\n",
+               scene.name, scene.mesh.triangle_count(), scene.mesh.vertex_count(), scene.mesh.has_normals() ? "yes" : "no",
+               bounds.lo.x, bounds.lo.y, bounds.lo.z, bounds.hi.x, bounds.hi.y, bounds.hi.z,
+               scene.light ? "yes" : "no", loaded.load_ms, loaded.source);
+    if (accel_given) fmt::print("{}\n", AnyAccel::build(accel_kind_or_throw(common.accel), scene.mesh).stats().to_line());
+    return 0;
+}
+
+int run_scenes(const std::optional<std::filesystem::path>& manifest) {
+    fmt::print("built-in scenes:\n");
+    for (const BuiltinSceneInfo& info : builtin_scenes())
+        fmt::print("  {:<10} {:>9} triangles{}  {}\n", info.name, info.triangles, info.closed ? " (closed)" : "         ",
+                   info.description);
+    if (manifest) {
+        fmt::print("{}:\n", manifest->string());
+        for (const ManifestEntry& entry : load_manifest(*manifest))
+            fmt::print("  {:<10} {:>9} triangles  {}\n", entry.name, entry.expected_triangles, entry.file.string());
+    }
+    return 0;
+}
+
+}  // namespace
+}  // namespace trident
+
+int main(int argc, char** argv) {
+    using namespace trident;
+    CLI::App app{"trident: build, trace and compare BVH, KD-tree and Octree"};
+    app.require_subcommand(1);
+
+    CommonOptions common;
+    RenderOptions render;
+    CLI::App* render_cmd = app.add_subcommand("render", "render a scene to a PNG (and optionally a hit buffer)");
+    add_common_options(*render_cmd, common, true);
+    render_cmd->add_option("--simd", render.simd, "traversal width: auto|scalar|4|8|16");
+    render_cmd->add_option("--width", render.width, "image width in pixels");
+    render_cmd->add_option("--height", render.height, "image height in pixels");
+    render_cmd->add_option("--mode", render.mode, "shaded|normal|depth|heat");
+    render_cmd->add_option("--output", render.output, "PNG file to write");
+    render_cmd->add_option("--dump-hits", render.dump_hits, "write the hit buffer of BENCHMARK.md to this file");
+
+    CommonOptions info_common;
+    CLI::App* info_cmd = app.add_subcommand("info", "scene statistics, and a structure's statistics with --accel");
+    add_common_options(*info_cmd, info_common, true);
+
+    std::optional<std::filesystem::path> scenes_manifest;
+    CLI::App* scenes_cmd = app.add_subcommand("scenes", "list the built-in scenes (and a manifest's)");
+    scenes_cmd->add_option("--scenes", scenes_manifest, "also list the scenes of this manifest");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "trident: %s\n", e.what());
+        return 2;
+    }
+
+    try {
+        const CommonOptions& chosen = render_cmd->parsed() ? common : info_common;
+        const std::size_t threads =
+            chosen.threads > 0 ? std::size_t(chosen.threads) : std::size_t(tbb::info::default_concurrency());
+        tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, threads);
+        if (render_cmd->parsed()) return run_render(common, render);
+        if (info_cmd->parsed()) return run_info(info_common, info_cmd->count("--accel") > 0);
+        return run_scenes(scenes_manifest);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "trident: %s\n", e.what());
+        return 1;
+    }
+}

@@ -1,0 +1,38 @@
+#pragma once
+// Tracing many rays over all cores: primary rays of a camera image, and batches of arbitrary rays
+// (shadow rays). Image tiles of 16x16 pixels are spread over oneTBB's threads; the caller sets the
+// thread count (tbb::global_control).
+#include <span>
+#include <vector>
+
+#include "accel/any_accel.h"
+#include "camera/camera.h"
+#include "core/intersect_triangle.h"
+
+namespace trident {
+
+/// Closest hit of every primary ray, row-major from the top row.
+std::vector<Hit> trace_primary(const AnyAccel& accel, const Camera& camera, TriangleTest test = TriangleTest::watertight);
+/// The same into a buffer of width x height hits the caller owns, so repeated timed traces
+/// (trident-bench) measure tracing, not allocating. Throws std::invalid_argument on a wrong size.
+void trace_primary(const AnyAccel& accel, const Camera& camera, std::span<Hit> hits,
+                   TriangleTest test = TriangleTest::watertight);
+
+/// The same rays traced with counters on: nodes visited and triangles tested per pixel.
+std::vector<TraversalCounters> count_primary(const AnyAccel& accel, const Camera& camera,
+                                             TriangleTest test = TriangleTest::watertight);
+
+/// Any-hit for each ray; rays with tmax <= tmin are not traced and count as unoccluded.
+std::vector<std::uint8_t> trace_occlusion(const AnyAccel& accel, std::span<const Ray> rays,
+                                          TriangleTest test = TriangleTest::watertight);
+
+/// Calls f(std::integral_constant<TriangleTest, T>{}) for the run-time choice, so kernels are
+/// instantiated for each test rather than branching per triangle.
+template <class F>
+decltype(auto) with_triangle_test(TriangleTest test, F&& f) {
+    if (test == TriangleTest::moller_trumbore)
+        return f(std::integral_constant<TriangleTest, TriangleTest::moller_trumbore>{});
+    return f(std::integral_constant<TriangleTest, TriangleTest::watertight>{});
+}
+
+}  // namespace trident

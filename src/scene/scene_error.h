@@ -1,0 +1,14 @@
+#pragma once
+// The one error type of scene input (files, manifests, scene names). Its message is one line that
+// names the file and, where known, the line; the CLI prints it as is.
+#include <stdexcept>
+#include <string>
+
+namespace trident {
+
+class SceneError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+}  // namespace trident

@@ -1,0 +1,76 @@
+#include <doctest/doctest.h>
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "render/hit_buffer.h"
+#include "render/image.h"
+#include "support/temp_files.h"
+
+namespace {
+
+struct Run {
+    int exit_code;
+    std::string output;  // stdout and stderr
+};
+
+Run run_trident(const std::string& args) {
+    const std::string command = std::string(TRIDENT_BINARY_DIR) + "/trident " + args + " 2>&1";
+    FILE* pipe = popen(command.c_str(), "r");
+    REQUIRE(pipe != nullptr);
+    std::string output;
+    std::array<char, 4096> buffer{};
+    while (std::fgets(buffer.data(), int(buffer.size()), pipe)) output += buffer.data();
+    const int status = pclose(pipe);
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+std::size_t lines(const std::string& text) {
+    std::size_t n = 0;
+    for (char c : text) n += c == '\n';
+    return n;
+}
+
+}  // namespace
+
+TEST_CASE("bad options and bad input give one line and a non-zero exit") {
+    const auto bad_obj = trident::testing::write_file("cli_bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+    for (const std::string& args : std::vector<std::string>{
+             "render teapot --width 0", "render teapot --height 99999", "render teapot --accel nothing",
+          "render teapot --mode sepia", "render teapot --simd 7", "render teapot --frobnicate",
+          "render /no/such/file.obj", "render " + bad_obj.string(), "render no_such_scene",
+          "info teapot --scenes /no/such/manifest.json", "render teapot --threads -1"}) {
+        CAPTURE(args);
+        const Run run = run_trident(args);
+        CHECK(run.exit_code != 0);
+        CHECK(lines(run.output) == 1);
+        CHECK(run.output.rfind("trident: ", 0) == 0);
+    }
+}
+
+TEST_CASE("render writes a PNG and a hit buffer of the requested size") {
+    const auto dir = trident::testing::scratch_dir();
+    const Run run = run_trident("render teapot --accel brute --width 64 --height 36 --output " + (dir / "t.png").string() +
+                                " --dump-hits " + (dir / "t.hits").string());
+    INFO(run.output);
+    REQUIRE(run.exit_code == 0);
+    const trident::Image image = trident::read_png(dir / "t.png");
+    CHECK(image.width == 64);
+    CHECK(image.height == 36);
+    const trident::HitBuffer hits = trident::read_hit_buffer(dir / "t.hits");
+    CHECK(hits.width == 64);
+    std::size_t hit_count = 0;
+    for (auto t : hits.triangle) hit_count += t >= 0;
+    CHECK(hit_count > 64 * 36 / 10);  // the teapot fills a good part of its own camera's view
+    CHECK(hit_count < 64 * 36);
+}
+
+TEST_CASE("scenes lists the built-in scenes") {
+    const Run run = run_trident("scenes");
+    CHECK(run.exit_code == 0);
+    CHECK(run.output.find("teapot") != std::string::npos);
+}
