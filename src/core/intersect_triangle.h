@@ -5,9 +5,15 @@
 // are recomputed in double (section 4 of the paper). Möller–Trumbore (1997) is the faster,
 // non-watertight alternative kept for the speed-against-error comparison. Neither culls back faces.
 // A hit counts when ray.tmin <= t < t_limit.
-#include <cmath>
-#include <utility>
+//
+// Each test is written once over a value type T: float for one ray (TriangleIntersector<Test>),
+// an xsimd batch for a packet with one ray per lane (simd/lanes.h supplies Lanes<batch>). A lane
+// of a packet gives the same hit, t, u and v bits as the scalar test on that lane's ray.
+#include <bit>
+#include <concepts>
+#include <cstdint>
 
+#include "core/lanes.h"
 #include "core/mesh.h"
 #include "core/ray.h"
 
@@ -19,88 +25,150 @@ inline const char* to_string(TriangleTest test) {
     return test == TriangleTest::watertight ? "watertight" : "moller_trumbore";
 }
 
-struct TriangleHit {
-    float t, u, v;  // u weighs corner b, v weighs corner c
+template <class T>
+struct TriangleHitT {
+    T t, u, v;  // u weighs corner b, v weighs corner c
 };
+using TriangleHit = TriangleHitT<float>;
 
+/// Constructed once per ray (or packet); intersect() returns the lanes that hit and writes their
+/// t, u, v to `out`. Lanes that miss leave unspecified values in `out` (a scalar miss leaves it
+/// untouched).
+template <TriangleTest Test, class T>
+class TriangleIntersectorT;
+
+/// The single-ray tests the structures use.
 template <TriangleTest Test>
-class TriangleIntersector;
+using TriangleIntersector = TriangleIntersectorT<Test, float>;
 
-template <>
-class TriangleIntersector<TriangleTest::watertight> {
+namespace detail {
+
+/// Section 4 of Woop et al.: where an edge function rounds to exactly zero, all three are
+/// recomputed in double. Products of floats are exact in double, so the result does not depend
+/// on whether the compiler fuses the multiply and the subtraction. Rare, so done lane by lane.
+template <class T>
+void edge_functions_in_double(typename Lanes<T>::Mask lanes, const T& ax, const T& ay, const T& bx, const T& by,
+                              const T& cx, const T& cy, T& u, T& v, T& w) {
+    using L = Lanes<T>;
+    const auto ax_ = L::to_array(ax), ay_ = L::to_array(ay), bx_ = L::to_array(bx);
+    const auto by_ = L::to_array(by), cx_ = L::to_array(cx), cy_ = L::to_array(cy);
+    auto u_ = L::to_array(u), v_ = L::to_array(v), w_ = L::to_array(w);
+    for (std::uint32_t bits = L::bits(lanes); bits != 0; bits &= bits - 1) {
+        const int i = std::countr_zero(bits);
+        u_[i] = float(double(cx_[i]) * double(by_[i]) - double(cy_[i]) * double(bx_[i]));
+        v_[i] = float(double(ax_[i]) * double(cy_[i]) - double(ay_[i]) * double(cx_[i]));
+        w_[i] = float(double(bx_[i]) * double(ay_[i]) - double(by_[i]) * double(ax_[i]));
+    }
+    u = L::from_array(u_);
+    v = L::from_array(v_);
+    w = L::from_array(w_);
+}
+
+}  // namespace detail
+
+template <class T>
+class TriangleIntersectorT<TriangleTest::watertight, T> {
+    using L = Lanes<T>;
+
 public:
-    explicit TriangleIntersector(const Ray& ray) : origin_(ray.origin), tmin_(ray.tmin) {
-        kz_ = largest_abs_axis(ray.dir);
-        kx_ = kz_ == 2 ? 0 : kz_ + 1;
-        ky_ = kx_ == 2 ? 0 : kx_ + 1;
-        if (ray.dir[kz_] < 0.0f) std::swap(kx_, ky_);  // keep the winding so U, V, W keep their signs
-        sx_ = ray.dir[kx_] / ray.dir[kz_];
-        sy_ = ray.dir[ky_] / ray.dir[kz_];
-        sz_ = 1.0f / ray.dir[kz_];
+    using Mask = typename L::Mask;
+
+    TriangleIntersectorT(const Vec3T<T>& origin, const Vec3T<T>& dir, T tmin)
+        : origin_(origin), tmin_(tmin), axes_(L::major_axis_to_z(dir)) {
+        const Vec3T<T> d = axes_.apply(dir);
+        sx_ = d.x / d.z;
+        sy_ = d.y / d.z;
+        sz_ = T(1.0f) / d.z;
+    }
+    explicit TriangleIntersectorT(const Ray& ray) requires std::same_as<T, float>
+        : TriangleIntersectorT(ray.origin, ray.dir, ray.tmin) {}
+
+    Mask intersect(const Triangle& tri, T t_limit, TriangleHitT<T>& out) const {
+        return intersect(Vec3T<T>(tri.a), Vec3T<T>(tri.b), Vec3T<T>(tri.c), t_limit, out);
     }
 
-    bool intersect(const Triangle& tri, float t_limit, TriangleHit& out) const {
-        const Vec3f a = tri.a - origin_, b = tri.b - origin_, c = tri.c - origin_;
-        const float ax = a[kx_] - sx_ * a[kz_], ay = a[ky_] - sy_ * a[kz_];
-        const float bx = b[kx_] - sx_ * b[kz_], by = b[ky_] - sy_ * b[kz_];
-        const float cx = c[kx_] - sx_ * c[kz_], cy = c[ky_] - sy_ * c[kz_];
-        float u = cx * by - cy * bx;
-        float v = ax * cy - ay * cx;
-        float w = bx * ay - by * ax;
-        if (u == 0.0f || v == 0.0f || w == 0.0f) {
-            u = float(double(cx) * double(by) - double(cy) * double(bx));
-            v = float(double(ax) * double(cy) - double(ay) * double(cx));
-            w = float(double(bx) * double(ay) - double(by) * double(ax));
-        }
-        if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return false;
-        const float det = u + v + w;
-        if (det == 0.0f) return false;  // degenerate triangle or ray in its plane
-        const float az = sz_ * a[kz_], bz = sz_ * b[kz_], cz = sz_ * c[kz_];
-        const float t_scaled = u * az + v * bz + w * cz;
+    Mask intersect(const Vec3T<T>& tri_a, const Vec3T<T>& tri_b, const Vec3T<T>& tri_c, T t_limit,
+                   TriangleHitT<T>& out) const {
+        const T zero(0.0f);
+        const Vec3T<T> a = axes_.apply(tri_a - origin_), b = axes_.apply(tri_b - origin_),
+                       c = axes_.apply(tri_c - origin_);
+        const T ax = a.x - sx_ * a.z, ay = a.y - sy_ * a.z;
+        const T bx = b.x - sx_ * b.z, by = b.y - sy_ * b.z;
+        const T cx = c.x - sx_ * c.z, cy = c.y - sy_ * c.z;
+        T u = cx * by - cy * bx;
+        T v = ax * cy - ay * cx;
+        T w = bx * ay - by * ax;
+        const Mask on_edge = (u == zero) | (v == zero) | (w == zero);
+        if (L::any(on_edge)) detail::edge_functions_in_double(on_edge, ax, ay, bx, by, cx, cy, u, v, w);
+        Mask hit = !(((u < zero) | (v < zero) | (w < zero)) & ((u > zero) | (v > zero) | (w > zero)));
+        if (L::none(hit)) return hit;
+        const T det = u + v + w;
+        hit = hit & (det != zero);  // zero: degenerate triangle or ray in its plane
+        if (L::none(hit)) return hit;
+        const T az = sz_ * a.z, bz = sz_ * b.z, cz = sz_ * c.z;
+        const T t_scaled = u * az + v * bz + w * cz;
         // Compare t against its limits before dividing; the sign of det orients the inequality.
-        const float abs_det = std::abs(det);
-        const float signed_t = det < 0.0f ? -t_scaled : t_scaled;
-        if (!(signed_t >= tmin_ * abs_det)) return false;
-        const float inv_det = 1.0f / det;
-        const float t = t_scaled * inv_det;
-        if (!(t >= tmin_ && t < t_limit)) return false;
+        const T abs_det = L::abs(det);
+        const T signed_t = L::select(det < zero, -t_scaled, t_scaled);
+        hit = hit & (signed_t >= tmin_ * abs_det);
+        if (L::none(hit)) return hit;
+        const T inv_det = T(1.0f) / det;
+        const T t = t_scaled * inv_det;
+        hit = hit & (t >= tmin_) & (t < t_limit);
+        if (L::none(hit)) return hit;
         out = {t, v * inv_det, w * inv_det};
-        return true;
+        return hit;
     }
 
 private:
-    Vec3f origin_;
-    float tmin_;
-    int kx_, ky_, kz_;
-    float sx_, sy_, sz_;
+    Vec3T<T> origin_;
+    T tmin_;
+    typename L::AxisPermutation axes_;
+    T sx_, sy_, sz_;
 };
 
-template <>
-class TriangleIntersector<TriangleTest::moller_trumbore> {
-public:
-    explicit TriangleIntersector(const Ray& ray) : origin_(ray.origin), dir_(ray.dir), tmin_(ray.tmin) {}
+template <class T>
+class TriangleIntersectorT<TriangleTest::moller_trumbore, T> {
+    using L = Lanes<T>;
 
-    bool intersect(const Triangle& tri, float t_limit, TriangleHit& out) const {
-        const Vec3f e1 = tri.b - tri.a, e2 = tri.c - tri.a;
-        const Vec3f p = cross(dir_, e2);
-        const float det = dot(e1, p);
-        if (det == 0.0f) return false;
-        const float inv_det = 1.0f / det;
-        const Vec3f s = origin_ - tri.a;
-        const float u = dot(s, p) * inv_det;
-        if (u < 0.0f || u > 1.0f) return false;
-        const Vec3f q = cross(s, e1);
-        const float v = dot(dir_, q) * inv_det;
-        if (v < 0.0f || u + v > 1.0f) return false;
-        const float t = dot(e2, q) * inv_det;
-        if (!(t >= tmin_ && t < t_limit)) return false;
+public:
+    using Mask = typename L::Mask;
+
+    TriangleIntersectorT(const Vec3T<T>& origin, const Vec3T<T>& dir, T tmin)
+        : origin_(origin), dir_(dir), tmin_(tmin) {}
+    explicit TriangleIntersectorT(const Ray& ray) requires std::same_as<T, float>
+        : TriangleIntersectorT(ray.origin, ray.dir, ray.tmin) {}
+
+    Mask intersect(const Triangle& tri, T t_limit, TriangleHitT<T>& out) const {
+        return intersect(Vec3T<T>(tri.a), Vec3T<T>(tri.b), Vec3T<T>(tri.c), t_limit, out);
+    }
+
+    Mask intersect(const Vec3T<T>& a, const Vec3T<T>& b, const Vec3T<T>& c, T t_limit, TriangleHitT<T>& out) const {
+        const T zero(0.0f), one(1.0f);
+        const Vec3T<T> e1 = b - a, e2 = c - a;
+        const Vec3T<T> p = cross(dir_, e2);
+        const T det = dot(e1, p);
+        Mask hit = det != zero;
+        if (L::none(hit)) return hit;
+        const T inv_det = one / det;
+        const Vec3T<T> s = origin_ - a;
+        const T u = dot(s, p) * inv_det;
+        hit = hit & !((u < zero) | (u > one));  // negated: a NaN u is left to the t test
+        if (L::none(hit)) return hit;
+        const Vec3T<T> q = cross(s, e1);
+        const T v = dot(dir_, q) * inv_det;
+        hit = hit & !((v < zero) | (u + v > one));
+        if (L::none(hit)) return hit;
+        const T t = dot(e2, q) * inv_det;
+        hit = hit & (t >= tmin_) & (t < t_limit);
+        if (L::none(hit)) return hit;
         out = {t, u, v};
-        return true;
+        return hit;
     }
 
 private:
-    Vec3f origin_, dir_;
-    float tmin_;
+    Vec3T<T> origin_, dir_;
+    T tmin_;
 };
 
 }  // namespace trident

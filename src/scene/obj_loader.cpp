@@ -79,7 +79,6 @@ Mesh load_obj(const std::filesystem::path& path) {
     tinyobj::ObjReaderConfig config;
     config.triangulate = true;
     config.vertex_color = false;
-    config.mtl_search_path = "\x01";  // materials are not used; keep the reader from looking for .mtl files
     tinyobj::ObjReader reader;
     if (!reader.ParseFromFile(name, config)) {
         const std::string error = reader.Error().empty() ? "cannot be parsed" : first_line(reader.Error());

@@ -1,0 +1,77 @@
+#pragma once
+// Lane-mask helpers xsimd 8.1 lacks: a mask as bits, the count and first of its set lanes, a
+// select of 32-bit integers (triangle ids) by a float mask, and a horizontal min.
+// Each width has its own mask representation: a vector of all-ones/all-zeros lanes up to AVX2,
+// a k-register (one bit a lane) from AVX-512 on.
+#include <array>
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <type_traits>
+#include <xsimd/xsimd.hpp>
+
+namespace trident::simd {
+
+template <class Arch>
+inline constexpr bool kHasMaskRegisters = std::is_base_of_v<xsimd::avx512f, Arch>;
+template <class Arch>
+inline constexpr bool kIs256Bit = std::is_base_of_v<xsimd::avx, Arch>;
+template <class Arch>
+inline constexpr bool kIs128Bit = std::is_base_of_v<xsimd::sse2, Arch>;
+
+/// Bit i set when lane i is set.
+template <class Arch>
+std::uint32_t mask_bits(const xsimd::batch_bool<float, Arch>& mask) {
+    if constexpr (kHasMaskRegisters<Arch>) {
+        return mask.data;
+    } else if constexpr (kIs256Bit<Arch>) {
+        return static_cast<std::uint32_t>(_mm256_movemask_ps(mask));
+    } else {
+        static_assert(kIs128Bit<Arch>, "no mask helpers for this architecture");
+        return static_cast<std::uint32_t>(_mm_movemask_ps(mask));
+    }
+}
+
+template <class Arch>
+int active_lane_count(const xsimd::batch_bool<float, Arch>& mask) {
+    return std::popcount(mask_bits(mask));
+}
+
+/// Index of the lowest set lane; the width when no lane is set.
+template <class Arch>
+int first_active_lane(const xsimd::batch_bool<float, Arch>& mask) {
+    const std::uint32_t bits = mask_bits(mask);
+    return bits == 0 ? int(xsimd::batch_bool<float, Arch>::size) : std::countr_zero(bits);
+}
+
+/// Per lane, if_true where the float mask is set, else if_false, over uint32 lanes (triangle ids).
+/// Written with intrinsics: xsimd 8.1's integer select for AVX-512BW does not compile at -O0.
+template <class Arch>
+xsimd::batch<std::uint32_t, Arch> select_index(const xsimd::batch_bool<float, Arch>& mask,
+                                               const xsimd::batch<std::uint32_t, Arch>& if_true,
+                                               const xsimd::batch<std::uint32_t, Arch>& if_false) {
+    using Register = typename xsimd::batch<std::uint32_t, Arch>::register_type;
+    const Register t = if_true, f = if_false;
+    if constexpr (kHasMaskRegisters<Arch>) {
+        return _mm512_mask_blend_epi32(mask.data, f, t);
+    } else if constexpr (kIs256Bit<Arch>) {
+        return _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(f), _mm256_castsi256_ps(t), mask));
+    } else {
+        static_assert(kIs128Bit<Arch>, "no mask helpers for this architecture");
+        return _mm_castps_si128(_mm_blendv_ps(_mm_castsi128_ps(f), _mm_castsi128_ps(t), mask));
+    }
+}
+
+/// Smallest lane; NaN lanes are skipped (+inf when every lane is NaN). For the smallest active
+/// lane, pass select(active, x, +inf).
+template <class Arch>
+float horizontal_min(const xsimd::batch<float, Arch>& x) {
+    std::array<float, xsimd::batch<float, Arch>::size> lanes;
+    x.store_unaligned(lanes.data());
+    float smallest = std::numeric_limits<float>::infinity();
+    for (const float lane : lanes) smallest = lane < smallest ? lane : smallest;
+    return smallest;
+}
+
+}  // namespace trident::simd

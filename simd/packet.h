@@ -1,0 +1,129 @@
+#pragma once
+// Ray packets: up to N rays in structure-of-arrays form, one per lane of an xsimd batch, with what
+// every traversal step needs computed once per packet (Embree's TravRayK): the reciprocal
+// direction (in the slab test's form), per-axis sign masks and whether all active lanes share one
+// octant. HitPacket keeps the closest hits and writes them back as scalar Hits. Lane i of a packet
+// test equals the scalar test on ray i bit for bit (core/lanes.h says what that takes).
+// Why the build is tied to -march=native, and how one binary could serve SSE4.2, AVX2 and AVX-512
+// CPUs: simd/README.md.
+#include <array>
+#include <cassert>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <xsimd/xsimd.hpp>
+
+#include "core/intersect_triangle.h"
+#include "core/ray.h"
+#include "core/slab_test.h"
+#include "simd/lanes.h"
+#include "simd/mask.h"
+
+namespace trident {
+
+template <class Arch>
+struct RayPacket {
+    using Float = xsimd::batch<float, Arch>;
+    using Mask = xsimd::batch_bool<float, Arch>;
+    static constexpr std::size_t width = Float::size;
+    static constexpr int kMixedOctant = -1;
+
+    Vec3T<Float> origin, dir;
+    Float tmin, tmax;          // inactive lanes hold [+inf, -inf], which nothing intersects
+    Mask active;               // the lanes loaded from a ray
+    SlabRayT<Float> slab;      // origin and 1 / dir (+-inf where dir is +-0) for intersect_slabs
+    Vec3T<Mask> dir_negative;  // per axis: 1 / dir < 0, so -0 counts as negative, as its reciprocal does
+    int octant;                // bit a = dir_negative[a] when every active lane agrees, else kMixedOctant
+
+    /// Lane i holds rays[i]; 1 <= rays.size() <= width. Lanes past the count are inactive and
+    /// copy the first ray's origin and direction, so they hold no NaN and keep its octant.
+    explicit RayPacket(std::span<const Ray> rays) : RayPacket(LaneArrays(rays)) {}
+
+    bool shares_octant() const { return octant != kMixedOctant; }
+
+private:
+    struct LaneArrays {
+        std::array<float, width> ox, oy, oz, dx, dy, dz, tmin, tmax;
+        std::array<bool, width> live;
+
+        explicit LaneArrays(std::span<const Ray> rays) {
+            assert(!rays.empty() && rays.size() <= width);
+            for (std::size_t i = 0; i < width; ++i) {
+                live[i] = i < rays.size();
+                const Ray& ray = rays[live[i] ? i : 0];
+                ox[i] = ray.origin.x, oy[i] = ray.origin.y, oz[i] = ray.origin.z;
+                dx[i] = ray.dir.x, dy[i] = ray.dir.y, dz[i] = ray.dir.z;
+                tmin[i] = live[i] ? ray.tmin : kInfinity;
+                tmax[i] = live[i] ? ray.tmax : -kInfinity;
+            }
+        }
+    };
+
+    static Float load_lanes(const std::array<float, width>& lanes) { return Float::load_unaligned(lanes.data()); }
+
+    explicit RayPacket(const LaneArrays& lanes)
+        : origin(load_lanes(lanes.ox), load_lanes(lanes.oy), load_lanes(lanes.oz)),
+          dir(load_lanes(lanes.dx), load_lanes(lanes.dy), load_lanes(lanes.dz)),
+          tmin(load_lanes(lanes.tmin)),
+          tmax(load_lanes(lanes.tmax)),
+          active(Mask::load_unaligned(lanes.live.data())),
+          slab(origin, dir),
+          dir_negative(slab.inv_dir.x < Float(0.0f), slab.inv_dir.y < Float(0.0f), slab.inv_dir.z < Float(0.0f)),
+          octant(shared_octant(dir_negative, active)) {}
+
+    static int shared_octant(const Vec3T<Mask>& negative, const Mask& active) {
+        const std::uint32_t active_bits = simd::mask_bits(active);
+        int octant = 0;
+        for (int axis = 0; axis < 3; ++axis) {
+            const std::uint32_t negative_bits = simd::mask_bits(negative[axis]) & active_bits;
+            if (negative_bits == active_bits)
+                octant |= 1 << axis;
+            else if (negative_bits != 0)
+                return kMixedOctant;
+        }
+        return octant;
+    }
+};
+
+/// The triangle test for every lane of a packet at once.
+template <TriangleTest Test, class Arch>
+TriangleIntersectorT<Test, xsimd::batch<float, Arch>> packet_intersector(const RayPacket<Arch>& rays) {
+    return {rays.origin, rays.dir, rays.tmin};
+}
+
+template <class Arch>
+struct HitPacket {
+    using Float = xsimd::batch<float, Arch>;
+    using Mask = xsimd::batch_bool<float, Arch>;
+    using Ids = xsimd::batch<std::uint32_t, Arch>;
+    static constexpr std::size_t width = Float::size;
+
+    Ids triangle;  // file-order index, kNoTriangle until the lane records a hit
+    Float t;       // the closest hit so far, else the ray's tmax: the limit for the next test
+    Float u, v;
+
+    explicit HitPacket(const RayPacket<Arch>& rays) : triangle(kNoTriangle), t(rays.tmax), u(0.0f), v(0.0f) {}
+
+    /// The lanes in `hit` take triangle `id` at `h`.
+    void record(const Mask& hit, TriangleId id, const TriangleHitT<Float>& h) {
+        triangle = simd::select_index(hit, Ids(id), triangle);
+        t = xsimd::select(hit, h.t, t);
+        u = xsimd::select(hit, h.u, u);
+        v = xsimd::select(hit, h.v, v);
+    }
+
+    /// Lanes [0, hits.size()) as scalar hits; a lane without a hit becomes a miss (Hit{}).
+    void store(std::span<Hit> hits) const {
+        assert(hits.size() <= width);
+        std::array<std::uint32_t, width> ids;
+        std::array<float, width> ts, us, vs;
+        triangle.store_unaligned(ids.data());
+        t.store_unaligned(ts.data());
+        u.store_unaligned(us.data());
+        v.store_unaligned(vs.data());
+        for (std::size_t i = 0; i < hits.size(); ++i)
+            hits[i] = ids[i] == kNoTriangle ? Hit{} : Hit{ids[i], ts[i], us[i], vs[i]};
+    }
+};
+
+}  // namespace trident

@@ -1,0 +1,180 @@
+// RayPacket and HitPacket: loading full and partial packets, the per-packet precomputed data,
+// and a closest-hit loop over packets that reproduces the scalar loop bit for bit.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/intersect_triangle.h"
+#include "each_arch.h"
+#include "simd/packet.h"
+#include "support/random_scenes.h"
+
+using namespace trident;
+using trident::testing::for_each_packet_arch;
+
+namespace {
+
+std::uint32_t bits_of(float x) { return std::bit_cast<std::uint32_t>(x); }
+
+/// Rays with distinct values in every field; directions in the octant given by `negative`
+/// (bit a: component a negative; a zero component is -0 when negative).
+std::vector<Ray> distinct_rays(std::size_t count, int negative) {
+    std::vector<Ray> rays;
+    for (std::size_t i = 0; i < count; ++i) {
+        const float f = float(i);
+        Vec3f dir{1.0f + f, 0.5f * f, 2.0f};
+        for (int axis = 0; axis < 3; ++axis)
+            if ((negative >> axis) & 1) dir[axis] = -dir[axis];  // 0.5 * 0 becomes -0
+        rays.push_back({{f, 10.0f + f, -f}, dir, 0.25f * f, 100.0f + f});
+    }
+    return rays;
+}
+
+template <class Arch>
+void check_lanes(const RayPacket<Arch>& packet, std::span<const Ray> rays) {
+    using L = Lanes<xsimd::batch<float, Arch>>;
+    constexpr std::size_t width = RayPacket<Arch>::width;
+    const auto ox = L::to_array(packet.origin.x), oy = L::to_array(packet.origin.y), oz = L::to_array(packet.origin.z);
+    const auto dx = L::to_array(packet.dir.x), dy = L::to_array(packet.dir.y), dz = L::to_array(packet.dir.z);
+    const auto ix = L::to_array(packet.slab.inv_dir.x), iy = L::to_array(packet.slab.inv_dir.y);
+    const auto iz = L::to_array(packet.slab.inv_dir.z);
+    const auto t0 = L::to_array(packet.tmin), t1 = L::to_array(packet.tmax);
+    std::size_t wrong = 0;
+    for (std::size_t i = 0; i < width; ++i) {
+        const bool live = i < rays.size();
+        const Ray& ray = rays[live ? i : 0];  // inactive lanes copy the first ray
+        wrong += bits_of(ox[i]) != bits_of(ray.origin.x) || bits_of(oy[i]) != bits_of(ray.origin.y) ||
+                 bits_of(oz[i]) != bits_of(ray.origin.z);
+        wrong += bits_of(dx[i]) != bits_of(ray.dir.x) || bits_of(dy[i]) != bits_of(ray.dir.y) ||
+                 bits_of(dz[i]) != bits_of(ray.dir.z);
+        const SlabRay scalar_slab(ray.origin, ray.dir);
+        wrong += bits_of(ix[i]) != bits_of(scalar_slab.inv_dir.x) || bits_of(iy[i]) != bits_of(scalar_slab.inv_dir.y) ||
+                 bits_of(iz[i]) != bits_of(scalar_slab.inv_dir.z);
+        wrong += live ? (t0[i] != ray.tmin || t1[i] != ray.tmax) : (t0[i] != kInfinity || t1[i] != -kInfinity);
+        for (int axis = 0; axis < 3; ++axis)
+            wrong += bool((simd::mask_bits(packet.dir_negative[axis]) >> i) & 1u) != std::signbit(ray.dir[axis]);
+    }
+    CHECK(wrong == 0);
+    CHECK(simd::mask_bits(packet.active) == (1u << rays.size()) - 1u);
+}
+
+}  // namespace
+
+TEST_CASE("a ray packet loads every count of rays, leaves the rest inactive and finds the shared octant") {
+    for_each_packet_arch([]<class Arch>() {
+        constexpr std::size_t width = RayPacket<Arch>::width;
+        for (int octant = 0; octant < 8; ++octant) {
+            CAPTURE(octant);
+            for (std::size_t count = 1; count <= width; ++count) {
+                CAPTURE(count);
+                const std::vector<Ray> rays = distinct_rays(count, octant);
+                const RayPacket<Arch> packet(rays);
+                check_lanes(packet, rays);
+                CHECK(packet.shares_octant());
+                CHECK(packet.octant == octant);
+            }
+        }
+    });
+}
+
+TEST_CASE("a ray packet whose active lanes point into different octants has no shared octant") {
+    for_each_packet_arch([]<class Arch>() {
+        constexpr std::size_t width = RayPacket<Arch>::width;
+        for (int axis = 0; axis < 3; ++axis) {
+            std::vector<Ray> rays = distinct_rays(width, 0);
+            rays.back().dir[axis] = -rays.back().dir[axis];
+            CHECK(RayPacket<Arch>(rays).octant == RayPacket<Arch>::kMixedOctant);
+            // The differing ray left out: the inactive lane copies ray 0, so the octant is shared.
+            CHECK(RayPacket<Arch>(std::span<const Ray>(rays).first(width - 1)).octant == 0);
+        }
+        std::vector<Ray> zeros = distinct_rays(2, 0);
+        zeros[0].dir = {1.0f, 0.0f, 1.0f};
+        zeros[1].dir = {1.0f, -0.0f, 1.0f};  // -0 counts as negative, as 1 / -0 = -inf does
+        CHECK(RayPacket<Arch>(zeros).octant == RayPacket<Arch>::kMixedOctant);
+    });
+}
+
+TEST_CASE("a hit packet records hits per lane and stores misses as Hit{}") {
+    for_each_packet_arch([]<class Arch>() {
+        using Float = xsimd::batch<float, Arch>;
+        constexpr std::size_t width = RayPacket<Arch>::width;
+        const std::vector<Ray> rays = distinct_rays(width, 0);
+        const RayPacket<Arch> packet(std::span<const Ray>(rays).first(width - 1));
+        HitPacket<Arch> hits(packet);
+        CHECK(xsimd::all(hits.t == packet.tmax));
+        std::array<bool, width> even{};
+        for (std::size_t i = 0; i < width; i += 2) even[i] = true;
+        hits.record(xsimd::batch_bool<float, Arch>::load_unaligned(even.data()), 42,
+                    {Float(3.0f), Float(0.25f), Float(0.5f)});
+        std::vector<Hit> stored(width - 1, Hit{7, 1.0f, 1.0f, 1.0f});
+        hits.store(stored);
+        std::size_t wrong = 0;
+        for (std::size_t i = 0; i < stored.size(); ++i) {
+            const Hit expected = even[i] ? Hit{42, 3.0f, 0.25f, 0.5f} : Hit{};
+            wrong += stored[i].triangle != expected.triangle || stored[i].t != expected.t ||
+                     stored[i].u != expected.u || stored[i].v != expected.v;
+        }
+        CHECK(wrong == 0);
+    });
+}
+
+TEST_CASE("closest hits over packets equal the scalar closest hits bit for bit") {
+    const Mesh soup = testing::random_soup(150, 21, 0.3f);
+    const std::vector<Triangle> triangles = gather_triangles(soup);
+    std::vector<Ray> rays = testing::random_rays(soup.bounds(), 203, 22);  // a partial last packet
+    for (std::size_t i = 0; i < rays.size(); i += 7) rays[i].tmax = 1.0f;
+    for (const TriangleTest test : {TriangleTest::watertight, TriangleTest::moller_trumbore}) {
+        const std::string test_name = to_string(test);
+        CAPTURE(test_name);
+        auto closest_scalar = [&]<TriangleTest Test>(const Ray& ray) {
+            const TriangleIntersector<Test> isect(ray);
+            Hit best;
+            best.t = ray.tmax;
+            TriangleHit h;
+            for (std::size_t k = 0; k < triangles.size(); ++k)
+                if (isect.intersect(triangles[k], best.t, h)) best = {TriangleId(k), h.t, h.u, h.v};
+            return best.is_hit() ? best : Hit{};
+        };
+        auto closest_packets = [&]<TriangleTest Test, class Arch>() {
+            using Float = xsimd::batch<float, Arch>;
+            constexpr std::size_t width = Float::size;
+            std::vector<Hit> out(rays.size());
+            for (std::size_t first = 0; first < rays.size(); first += width) {
+                const std::size_t count = std::min(width, rays.size() - first);
+                const RayPacket<Arch> packet(std::span<const Ray>(rays).subspan(first, count));
+                const auto isect = packet_intersector<Test>(packet);
+                HitPacket<Arch> hits(packet);
+                TriangleHitT<Float> h{};
+                for (std::size_t k = 0; k < triangles.size(); ++k)
+                    hits.record(isect.intersect(triangles[k], hits.t, h) & packet.active, TriangleId(k), h);
+                hits.store(std::span<Hit>(out).subspan(first, count));
+            }
+            return out;
+        };
+        for_each_packet_arch([&]<class Arch>() {
+            const std::vector<Hit> packet_hits =
+                test == TriangleTest::watertight
+                    ? closest_packets.template operator()<TriangleTest::watertight, Arch>()
+                    : closest_packets.template operator()<TriangleTest::moller_trumbore, Arch>();
+            std::size_t wrong = 0, hit_count = 0;
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+                const Hit s = test == TriangleTest::watertight
+                                  ? closest_scalar.template operator()<TriangleTest::watertight>(rays[i])
+                                  : closest_scalar.template operator()<TriangleTest::moller_trumbore>(rays[i]);
+                const Hit& p = packet_hits[i];
+                hit_count += s.is_hit();
+                wrong += s.triangle != p.triangle || bits_of(s.t) != bits_of(p.t) || bits_of(s.u) != bits_of(p.u) ||
+                         bits_of(s.v) != bits_of(p.v);
+            }
+            CHECK(wrong == 0);
+            CHECK(hit_count > rays.size() / 4);
+        });
+    }
+}
