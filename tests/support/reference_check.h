@@ -5,6 +5,7 @@
 // tie between triangles sharing an edge or a vertex, or duplicates.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <span>
 #include <string>

@@ -1,0 +1,66 @@
+#pragma once
+// The octree of the reference study: every node split by the three planes through its centre
+// into 8 cubes, down to a maximum depth or a minimum triangle count; triangles referenced by
+// every cell they overlap; traced with the parametric algorithm of Revelles, Ureña and Lastra
+// (WSCG 2000). Building: octree_build.h; layout: octree_node.h; traversal: octree_traversal.h.
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "accel/accel_stats.h"
+#include "accel/octree/octree_build.h"
+#include "accel/octree/octree_node.h"
+#include "accel/octree/octree_traversal.h"
+#include "core/intersect_triangle.h"
+#include "core/mesh.h"
+
+namespace trident {
+
+class Octree {
+public:
+    /// Throws std::invalid_argument on options out of range (validate()).
+    static Octree build(const Mesh& mesh, const OctreeOptions& options = {});
+
+    template <TriangleTest Test, class Counters>
+    Hit intersect(const Ray& ray, Counters& counters) const {
+        return traverse_octree<OctreeQuery::closest_hit, Test>(view(), ray, counters);
+    }
+    template <TriangleTest Test, class Counters>
+    bool occluded(const Ray& ray, Counters& counters) const {
+        return traverse_octree<OctreeQuery::any_hit, Test>(view(), ray, counters).is_hit();
+    }
+    Hit intersect(const Ray& ray) const {
+        NoCounters c;
+        return intersect<TriangleTest::watertight>(ray, c);
+    }
+    bool occluded(const Ray& ray) const {
+        NoCounters c;
+        return occluded<TriangleTest::watertight>(ray, c);
+    }
+
+    const AccelStats& stats() const { return stats_; }
+    /// Empty unless the build left something out or stopped splitting early (to be printed).
+    const std::string& warning() const { return warning_; }
+
+    // The flattened layout, for packet traversals and tests.
+    std::span<const OctreeNode> nodes() const { return nodes_; }
+    std::span<const std::uint32_t> triangle_indices() const { return triangle_indices_; }
+    std::span<const Triangle> triangles() const { return triangles_; }          // Morton order
+    std::span<const TriangleId> triangle_ids() const { return triangle_ids_; }  // file order of each
+    const OctreeCube& cube() const { return cube_; }
+    int max_depth() const { return max_depth_; }  // the limit the build used
+    OctreeView view() const { return {nodes_, triangle_indices_, triangles_, triangle_ids_, cube_}; }
+
+private:
+    std::vector<OctreeNode> nodes_;
+    std::vector<std::uint32_t> triangle_indices_;
+    std::vector<Triangle> triangles_;
+    std::vector<TriangleId> triangle_ids_;
+    OctreeCube cube_;
+    int max_depth_ = 0;
+    AccelStats stats_;
+    std::string warning_;
+};
+
+}  // namespace trident
