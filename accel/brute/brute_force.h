@@ -7,6 +7,7 @@
 #include "accel/accel_stats.h"
 #include "core/intersect_triangle.h"
 #include "core/mesh.h"
+#include "simd/packet.h"
 
 namespace trident {
 
@@ -37,6 +38,31 @@ public:
             if (isect.intersect(tri, ray.tmax, h)) return true;
         }
         return false;
+    }
+
+    template <TriangleTest Test, class Arch, class Counters>
+    void intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters) const {
+        const auto isect = packet_intersector<Test>(rays);
+        using Float = typename RayPacket<Arch>::Float;
+        TriangleHitT<Float> h{Float(0.0f), Float(0.0f), Float(0.0f)};
+        for (std::size_t i = 0; i < triangles_.size(); ++i) {
+            counters.test_triangle();
+            hits.record(isect.intersect(triangles_[i], hits.t, h), static_cast<TriangleId>(i), h);
+        }
+    }
+
+    template <TriangleTest Test, class Arch, class Counters>
+    typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters) const {
+        const auto isect = packet_intersector<Test>(rays);
+        using Float = typename RayPacket<Arch>::Float;
+        TriangleHitT<Float> h{Float(0.0f), Float(0.0f), Float(0.0f)};
+        typename RayPacket<Arch>::Mask blocked(false);
+        for (const Triangle& tri : triangles_) {
+            counters.test_triangle();
+            blocked = blocked | isect.intersect(tri, rays.tmax, h);
+            if (xsimd::all(blocked | !rays.active)) break;
+        }
+        return blocked & rays.active;
     }
 
     Hit intersect(const Ray& ray) const { NoCounters c; return intersect<TriangleTest::watertight>(ray, c); }

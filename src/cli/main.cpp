@@ -31,6 +31,7 @@ struct CommonOptions {
     std::string accel = "bvh";
     std::string triangle_test = "watertight";
     int threads = 0;
+    AccelOptions accel_options;
 };
 
 struct RenderOptions {
@@ -58,11 +59,22 @@ TriangleTest triangle_test_or_throw(const std::string& name) {
     throw std::invalid_argument(fmt::format("--triangle-test {}: expected watertight or moller_trumbore", name));
 }
 
-/// Until the packet traversals land, every run is scalar: `auto` says so, explicit widths refuse.
-std::string simd_or_throw(const std::string& name) {
-    if (name == "auto" || name == "scalar") return "scalar";
-    if (name == "4" || name == "8" || name == "16") throw std::invalid_argument(fmt::format("--simd {}: not built yet", name));
-    throw std::invalid_argument(fmt::format("--simd {}: expected auto, scalar, 4, 8 or 16", name));
+SimdWidth simd_width_or_throw(const std::string& name) {
+    const auto width = parse_simd_width(name);
+    if (!width) throw std::invalid_argument(fmt::format("--simd {}: expected {}", name, kSimdWidthChoices));
+    if (!is_runnable(*width)) throw std::invalid_argument(fmt::format("--simd {}: this CPU or build cannot run it", name));
+    return *width;
+}
+
+/// Builds the structure and prints, on stderr, what its builder had to give up (the octree's
+/// reference guard), so a user never takes a truncated tree for the real thing.
+AnyAccel build_and_warn(AccelKind kind, const Mesh& mesh, const AccelOptions& options) {
+    AnyAccel accel = AnyAccel::build(kind, mesh, options);
+    accel.visit([](const auto& structure) {
+        if constexpr (requires { structure.warning(); })
+            if (!structure.warning().empty()) std::fprintf(stderr, "trident: warning: %s\n", structure.warning().c_str());
+    });
+    return accel;
 }
 
 void add_common_options(CLI::App& command, CommonOptions& common, bool with_accel) {
@@ -71,6 +83,11 @@ void add_common_options(CLI::App& command, CommonOptions& common, bool with_acce
     if (with_accel) {
         command.add_option("--accel", common.accel, "acceleration structure: brute|bvh|kdtree|octree");
         command.add_option("--triangle-test", common.triangle_test, "watertight (default) or moller_trumbore");
+        command.add_option("--octree-depth", common.accel_options.octree.max_depth,
+                           "octree maximum depth, 1..12 (default: chosen from the scene)")
+            ->check(CLI::Range(1, 12));
+        command.add_option("--octree-min-prims", common.accel_options.octree.min_primitives,
+                           "octree: a node with this many triangles or fewer is a leaf (default 1)");
     }
     command.add_option("--threads", common.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096));
 }
@@ -78,7 +95,7 @@ void add_common_options(CLI::App& command, CommonOptions& common, bool with_acce
 int run_render(const CommonOptions& common, const RenderOptions& options) {
     const AccelKind kind = accel_kind_or_throw(common.accel);
     const TriangleTest test = triangle_test_or_throw(common.triangle_test);
-    const std::string simd = simd_or_throw(options.simd);
+    const SimdWidth width = simd_width_or_throw(options.simd);
     const auto mode = parse_render_mode(options.mode);
     if (!mode) throw std::invalid_argument(fmt::format("--mode {}: expected shaded, normal, depth or heat", options.mode));
     if (options.width == 0 || options.height == 0 || options.width > kMaxImageSide || options.height > kMaxImageSide)
@@ -87,16 +104,16 @@ int run_render(const CommonOptions& common, const RenderOptions& options) {
 
     const LoadedScene loaded = load_scene(common.scene, common.manifest);
     const Scene& scene = loaded.scene;
-    const AnyAccel accel = AnyAccel::build(kind, scene.mesh);
+    const AnyAccel accel = build_and_warn(kind, scene.mesh, common.accel_options);
     const Camera camera(scene.camera, options.width, options.height);
 
     const auto trace_start = std::chrono::steady_clock::now();
-    const std::vector<Hit> hits = trace_primary(accel, camera, test);
+    const std::vector<Hit> hits = trace_primary(accel, camera, test, width);
     const double trace_ms = ms_since(trace_start);
 
     Image image;
     switch (*mode) {
-        case RenderMode::shaded: image = shade_shaded(scene, accel, camera, hits); break;
+        case RenderMode::shaded: image = shade_shaded(scene, accel, camera, hits, width); break;
         case RenderMode::normal: image = shade_normal(scene, camera, hits); break;
         case RenderMode::depth: image = shade_depth(camera, hits); break;
         case RenderMode::heat: image = shade_heat(camera, count_primary(accel, camera, test)); break;
@@ -108,7 +125,8 @@ int run_render(const CommonOptions& common, const RenderOptions& options) {
     fmt::print("{}: {} triangles, load {:.1f} ms, {} build {:.1f} ms, trace {:.1f} ms ({:.2f} Mrays/s, {}, {}, "
                "{} threads), {}x{} {} -> {}\n",
                scene.name, scene.mesh.triangle_count(), loaded.load_ms, to_string(kind), accel.stats().build_ms,
-               trace_ms, rays / trace_ms / 1000.0, simd, to_string(test),
+               trace_ms, rays / trace_ms / 1000.0,
+               width == SimdWidth::scalar ? std::string("scalar") : fmt::format("simd{}", lane_count(width)), to_string(test),
                tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism), camera.width(),
                camera.height(), to_string(*mode), options.output.string());
     return 0;
@@ -122,7 +140,8 @@ int run_info(const CommonOptions& common, bool accel_given) {
                scene.name, scene.mesh.triangle_count(), scene.mesh.vertex_count(), scene.mesh.has_normals() ? "yes" : "no",
                bounds.lo.x, bounds.lo.y, bounds.lo.z, bounds.hi.x, bounds.hi.y, bounds.hi.z,
                scene.light ? "yes" : "no", loaded.load_ms, loaded.source);
-    if (accel_given) fmt::print("{}\n", AnyAccel::build(accel_kind_or_throw(common.accel), scene.mesh).stats().to_line());
+    if (accel_given)
+        fmt::print("{}\n", build_and_warn(accel_kind_or_throw(common.accel), scene.mesh, common.accel_options).stats().to_line());
     return 0;
 }
 

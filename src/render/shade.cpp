@@ -61,7 +61,8 @@ Vec3f shading_normal(const Mesh& mesh, const Hit& hit, const Vec3f& ray_dir) {
     return face_forward(n / len, ray_dir);
 }
 
-Image shade_shaded(const Scene& scene, const AnyAccel& accel, const Camera& camera, const std::vector<Hit>& hits) {
+Image shade_shaded(const Scene& scene, const AnyAccel& accel, const Camera& camera, const std::vector<Hit>& hits,
+                   SimdWidth width) {
     Image image(camera.width(), camera.height());
     const std::uint32_t w = camera.width();
     std::vector<Ray> shadow_rays;
@@ -82,7 +83,7 @@ Image shade_shaded(const Scene& scene, const AnyAccel& accel, const Camera& came
         }
     }
     const std::vector<std::uint8_t> occluded =
-        scene.light ? trace_occlusion(accel, shadow_rays) : std::vector<std::uint8_t>{};
+        scene.light ? trace_occlusion(accel, shadow_rays, TriangleTest::watertight, width) : std::vector<std::uint8_t>{};
     for (std::size_t i = 0; i < hits.size(); ++i) {
         const auto x = std::uint32_t(i % w), y = std::uint32_t(i / w);
         if (!hits[i].is_hit()) {

@@ -10,6 +10,7 @@
 #include "camera/camera.h"
 #include "core/scene.h"
 #include "render/image.h"
+#include "simd/width.h"
 
 namespace trident {
 
@@ -23,7 +24,8 @@ std::optional<RenderMode> parse_render_mode(std::string_view name);
 Vec3f shading_normal(const Mesh& mesh, const Hit& hit, const Vec3f& ray_dir);
 
 /// Images for the modes that need only hits (shaded traces its own shadow rays through `accel`).
-Image shade_shaded(const Scene& scene, const AnyAccel& accel, const Camera& camera, const std::vector<Hit>& hits);
+Image shade_shaded(const Scene& scene, const AnyAccel& accel, const Camera& camera, const std::vector<Hit>& hits,
+                   SimdWidth width = SimdWidth::scalar);
 Image shade_normal(const Scene& scene, const Camera& camera, const std::vector<Hit>& hits);
 Image shade_depth(const Camera& camera, const std::vector<Hit>& hits);
 /// Nodes visited per pixel on a perceptual colour ramp, scaled to the image's maximum.

@@ -1,46 +1,101 @@
 #include "render/trace.h"
 
+#include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 
+#include <array>
 #include <stdexcept>
+
+#include "simd/packet.h"
 
 namespace trident {
 namespace {
 
-constexpr std::size_t kTileSize = 16;
+// Tiles are a multiple of every packet block, so blocks are cut only at the image's edges.
+constexpr std::uint32_t kTileSize = 16;
 
-/// Runs per_pixel(x, y, index) for every pixel, tile by tile in parallel.
+using Tile = tbb::blocked_range2d<std::uint32_t>;
+
+/// Runs per_tile(tile) over the image's tiles in parallel.
+template <class PerTile>
+void for_each_tile(const Camera& camera, PerTile&& per_tile) {
+    tbb::parallel_for(Tile(0, camera.height(), kTileSize, 0, camera.width(), kTileSize), per_tile);
+}
+
 template <class PerPixel>
 void for_each_pixel_tiled(const Camera& camera, PerPixel&& per_pixel) {
-    const tbb::blocked_range2d<std::uint32_t> image(0, camera.height(), kTileSize, 0, camera.width(), kTileSize);
-    tbb::parallel_for(image, [&](const tbb::blocked_range2d<std::uint32_t>& tile) {
+    for_each_tile(camera, [&](const Tile& tile) {
         for (std::uint32_t y = tile.rows().begin(); y != tile.rows().end(); ++y)
             for (std::uint32_t x = tile.cols().begin(); x != tile.cols().end(); ++x)
                 per_pixel(x, y, std::size_t(y) * camera.width() + x);
     });
 }
 
-}  // namespace
+template <class Structure, class Arch>
+concept PacketTraversable = requires(const Structure& s, const RayPacket<Arch>& rays, HitPacket<Arch>& hits,
+                                     NoCounters& counters) {
+    s.template intersect<TriangleTest::watertight>(rays, hits, counters);
+    s.template occluded<TriangleTest::watertight>(rays, counters);
+};
 
-std::vector<Hit> trace_primary(const AnyAccel& accel, const Camera& camera, TriangleTest test) {
-    std::vector<Hit> hits(std::size_t(camera.width()) * camera.height());
-    trace_primary(accel, camera, hits, test);
-    return hits;
+[[noreturn]] void throw_no_packets(const AnyAccel& accel, SimdWidth width) {
+    throw std::runtime_error(fmt::format("--simd {} with --accel {}: packet traversal not built yet", to_string(width),
+                                         to_string(accel.kind())));
 }
 
-void trace_primary(const AnyAccel& accel, const Camera& camera, std::span<Hit> hits, TriangleTest test) {
-    if (hits.size() != std::size_t(camera.width()) * camera.height())
-        throw std::invalid_argument("trace_primary: the hit buffer does not match the image size");
+/// Primary rays of one tile as packets of the structure's closest-hit packet traversal.
+template <TriangleTest Test, class Arch, class Structure>
+void trace_tile_packets(const Structure& structure, const Camera& camera, const Tile& tile, std::vector<Hit>& out) {
+    constexpr std::size_t kLanes = RayPacket<Arch>::width;
+    constexpr auto kBlock = packet_block(kLanes);
+    std::array<Ray, kLanes> rays;
+    std::array<std::size_t, kLanes> pixel;
+    std::array<Hit, kLanes> hits;
+    for (std::uint32_t y0 = tile.rows().begin(); y0 < tile.rows().end(); y0 += kBlock.second) {
+        for (std::uint32_t x0 = tile.cols().begin(); x0 < tile.cols().end(); x0 += kBlock.first) {
+            std::size_t lanes = 0;
+            for (std::uint32_t y = y0; y < y0 + kBlock.second && y < tile.rows().end(); ++y)
+                for (std::uint32_t x = x0; x < x0 + kBlock.first && x < tile.cols().end(); ++x) {
+                    rays[lanes] = camera.primary_ray(x, y);
+                    pixel[lanes++] = std::size_t(y) * camera.width() + x;
+                }
+            const RayPacket<Arch> packet(std::span<const Ray>(rays.data(), lanes));
+            HitPacket<Arch> packet_hits(packet);
+            NoCounters counters;
+            structure.template intersect<Test>(packet, packet_hits, counters);
+            packet_hits.store(std::span<Hit>(hits.data(), lanes));
+            for (std::size_t i = 0; i < lanes; ++i) out[pixel[i]] = hits[i];
+        }
+    }
+}
+
+}  // namespace
+
+std::vector<Hit> trace_primary(const AnyAccel& accel, const Camera& camera, TriangleTest test, SimdWidth width) {
+    std::vector<Hit> hits(std::size_t(camera.width()) * camera.height());
     with_triangle_test(test, [&](auto test_tag) {
+        constexpr TriangleTest Test = decltype(test_tag)::value;
         accel.visit([&](const auto& structure) {
-            for_each_pixel_tiled(camera, [&](std::uint32_t x, std::uint32_t y, std::size_t i) {
-                NoCounters counters;
-                hits[i] = structure.template intersect<decltype(test_tag)::value>(camera.primary_ray(x, y), counters);
+            using Structure = std::decay_t<decltype(structure)>;
+            dispatch_width(width, [&]<SimdWidth W>() {
+                if constexpr (W == SimdWidth::scalar) {
+                    for_each_pixel_tiled(camera, [&](std::uint32_t x, std::uint32_t y, std::size_t i) {
+                        NoCounters counters;
+                        hits[i] = structure.template intersect<Test>(camera.primary_ray(x, y), counters);
+                    });
+                } else if constexpr (PacketTraversable<Structure, ArchOf<W>>) {
+                    for_each_tile(camera, [&](const Tile& tile) {
+                        trace_tile_packets<Test, ArchOf<W>>(structure, camera, tile, hits);
+                    });
+                } else {
+                    throw_no_packets(accel, W);
+                }
             });
         });
     });
+    return hits;
 }
 
 std::vector<TraversalCounters> count_primary(const AnyAccel& accel, const Camera& camera, TriangleTest test) {
@@ -55,16 +110,46 @@ std::vector<TraversalCounters> count_primary(const AnyAccel& accel, const Camera
     return counts;
 }
 
-std::vector<std::uint8_t> trace_occlusion(const AnyAccel& accel, std::span<const Ray> rays, TriangleTest test) {
+std::vector<std::uint8_t> trace_occlusion(const AnyAccel& accel, std::span<const Ray> rays, TriangleTest test,
+                                          SimdWidth width) {
     std::vector<std::uint8_t> occluded(rays.size(), 0);
     with_triangle_test(test, [&](auto test_tag) {
+        constexpr TriangleTest Test = decltype(test_tag)::value;
         accel.visit([&](const auto& structure) {
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 256), [&](const auto& range) {
-                for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                    if (!(rays[i].tmax > rays[i].tmin)) continue;
-                    NoCounters counters;
-                    occluded[i] = structure.template occluded<decltype(test_tag)::value>(rays[i], counters);
-                }
+            using Structure = std::decay_t<decltype(structure)>;
+            dispatch_width(width, [&]<SimdWidth W>() {
+                constexpr std::size_t kLanes = lane_count(W);
+                tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 64 * kLanes), [&](const auto& range) {
+                    if constexpr (W == SimdWidth::scalar) {
+                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                            if (!(rays[i].tmax > rays[i].tmin)) continue;
+                            NoCounters counters;
+                            occluded[i] = structure.template occluded<Test>(rays[i], counters);
+                        }
+                    } else if constexpr (PacketTraversable<Structure, ArchOf<W>>) {
+                        // Rays with nothing to trace (tmax <= tmin) are left out of the packets.
+                        std::array<Ray, kLanes> batch;
+                        std::array<std::size_t, kLanes> index;
+                        std::size_t lanes = 0;
+                        auto flush = [&] {
+                            const RayPacket<ArchOf<W>> packet(std::span<const Ray>(batch.data(), lanes));
+                            NoCounters counters;
+                            const std::uint32_t bits =
+                                simd::mask_bits(structure.template occluded<Test>(packet, counters));
+                            for (std::size_t k = 0; k < lanes; ++k) occluded[index[k]] = (bits >> k) & 1u;
+                            lanes = 0;
+                        };
+                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                            if (!(rays[i].tmax > rays[i].tmin)) continue;
+                            batch[lanes] = rays[i];
+                            index[lanes++] = i;
+                            if (lanes == kLanes) flush();
+                        }
+                        if (lanes) flush();
+                    } else {
+                        throw_no_packets(accel, W);
+                    }
+                });
             });
         });
     });

@@ -3,16 +3,21 @@
 // (shadow rays). Image tiles of 16x16 pixels are spread over oneTBB's threads; the caller sets the
 // thread count (tbb::global_control).
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "accel/any_accel.h"
 #include "camera/camera.h"
 #include "core/intersect_triangle.h"
+#include "simd/width.h"
 
 namespace trident {
 
-/// Closest hit of every primary ray, row-major from the top row.
-std::vector<Hit> trace_primary(const AnyAccel& accel, const Camera& camera, TriangleTest test = TriangleTest::watertight);
+/// Closest hit of every primary ray, row-major from the top row. With a packet width, rays go as
+/// packets of 2x2 (4 lanes), 4x2 (8) or 4x4 (16) pixels; lanes past the image edge are inactive.
+/// Throws std::runtime_error when the width is not runnable here or the structure has no packets.
+std::vector<Hit> trace_primary(const AnyAccel& accel, const Camera& camera, TriangleTest test = TriangleTest::watertight,
+                               SimdWidth width = SimdWidth::scalar);
 /// The same into a buffer of width x height hits the caller owns, so repeated timed traces
 /// (trident-bench) measure tracing, not allocating. Throws std::invalid_argument on a wrong size.
 void trace_primary(const AnyAccel& accel, const Camera& camera, std::span<Hit> hits,
@@ -23,8 +28,15 @@ std::vector<TraversalCounters> count_primary(const AnyAccel& accel, const Camera
                                              TriangleTest test = TriangleTest::watertight);
 
 /// Any-hit for each ray; rays with tmax <= tmin are not traced and count as unoccluded.
+/// Packets gather consecutive traced rays (image order keeps shadow rays of neighbouring pixels together).
 std::vector<std::uint8_t> trace_occlusion(const AnyAccel& accel, std::span<const Ray> rays,
-                                          TriangleTest test = TriangleTest::watertight);
+                                          TriangleTest test = TriangleTest::watertight,
+                                          SimdWidth width = SimdWidth::scalar);
+
+/// Pixels per packet: width x height of the block a packet of `lanes` rays covers.
+constexpr std::pair<std::uint32_t, std::uint32_t> packet_block(std::size_t lanes) {
+    return lanes == 4 ? std::pair{2u, 2u} : std::pair{4u, std::uint32_t(lanes / 4)};
+}
 
 /// Calls f(std::integral_constant<TriangleTest, T>{}) for the run-time choice, so kernels are
 /// instantiated for each test rather than branching per triangle.
