@@ -1,0 +1,326 @@
+#include "accel/bvh/binned_sah_splitter.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <utility>
+#include <xsimd/xsimd.hpp>
+
+namespace trident::bvh {
+
+namespace {
+
+constexpr int kBinCapacity = BvhOptions::kMaxLargeNodeBins;
+
+/// Nodes at least this large are binned in parallel.
+constexpr std::uint32_t kParallelBinningMin = 1u << 15;
+constexpr std::uint32_t kBinningGrain = 1u << 13;
+
+/// Binning touches every reference on every level, so it works on whole boxes: four lanes, of
+/// which x, y, z matter (the fourth is zeroed where a load brings in the id, and never read).
+using Float4 = xsimd::make_sized_batch_t<float, 4>;
+using Int4 = xsimd::make_sized_batch_t<std::int32_t, 4>;
+
+Float4 load_lo(const PrimitiveRef& ref) { return Float4::load_aligned(reinterpret_cast<const float*>(&ref)); }
+Float4 load_hi(const PrimitiveRef& ref) { return Float4::load_aligned(reinterpret_cast<const float*>(&ref) + 4); }
+
+/// The union of a bin's boxes. Plain floats keep it trivially constructible, so a node clears
+/// only the bins it uses.
+struct alignas(16) BinBox {
+    float lo[4], hi[4];
+
+    void clear() {
+        Float4(kInfinity).store_aligned(lo);
+        Float4(-kInfinity).store_aligned(hi);
+    }
+    void add(const Float4& box_lo, const Float4& box_hi) {
+        xsimd::min(Float4::load_aligned(lo), box_lo).store_aligned(lo);
+        xsimd::max(Float4::load_aligned(hi), box_hi).store_aligned(hi);
+    }
+    void add(const BinBox& other) { add(Float4::load_aligned(other.lo), Float4::load_aligned(other.hi)); }
+    Aabb bounds() const { return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}; }
+};
+
+/// The bins of the three axes: boxes per axis, counts per bin with one lane per axis (so the
+/// sweep reads the three axes' counts of a bin at once).
+struct BinGrid {
+    BinBox boxes[3][kBinCapacity];
+    alignas(16) std::int32_t counts[kBinCapacity][4];
+    int count;
+
+    explicit BinGrid(int bin_count) : count(bin_count) {
+        for (int b = 0; b < count; ++b) {
+            for (auto& axis : boxes) axis[b].clear();
+            Int4(0).store_aligned(counts[b]);
+        }
+    }
+    void merge(const BinGrid& other) {
+        for (int b = 0; b < count; ++b) {
+            for (int axis = 0; axis < 3; ++axis) boxes[axis][b].add(other.boxes[axis][b]);
+            (Int4::load_aligned(counts[b]) + Int4::load_aligned(other.counts[b])).store_aligned(counts[b]);
+        }
+    }
+};
+
+/// Nodes at least this large alternate between two bin grids: a run of references that fall in
+/// the same bin would otherwise make each update wait for the previous one's store.
+constexpr std::uint32_t kTwoGridMin = 256;
+
+/// Drops refs [begin, end) into the bins of every axis (AllAxes) or of `single_axis` only. The
+/// bin index is computed exactly as BinMapping::bin computes it, so partition() agrees.
+template <bool AllAxes>
+void fill_bins(std::span<const PrimitiveRef> refs, std::uint32_t begin, std::uint32_t end, const BinMapping& mapping,
+               int single_axis, BinGrid& grid) {
+    const Float4 origin{mapping.origin[0], mapping.origin[1], mapping.origin[2], 0.0f};
+    const Float4 scale{mapping.scale[0], mapping.scale[1], mapping.scale[2], 0.0f};
+    const Float4 xyz = xsimd::bitwise_cast<Float4>(Int4{-1, -1, -1, 0});  // zeroes the id lane of lo
+    const Int4 last_bin(mapping.count - 1);
+    auto add = [&](const PrimitiveRef& ref, BinGrid& to) {
+        const Float4 lo = load_lo(ref) & xyz, hi = load_hi(ref);
+        const Float4 centroid = (lo + hi) * Float4(0.5f);
+        alignas(16) std::int32_t bin[4];
+        xsimd::min(xsimd::batch_cast<std::int32_t>((centroid - origin) * scale), last_bin).store_aligned(bin);
+        for (int axis = 0; axis < 3; ++axis) {
+            if (!AllAxes && axis != single_axis) continue;
+            to.boxes[axis][bin[axis]].add(lo, hi);
+            ++to.counts[bin[axis]][axis];
+        }
+    };
+    if (end - begin < kTwoGridMin) {
+        for (std::uint32_t i = begin; i != end; ++i) add(refs[i], grid);
+        return;
+    }
+    BinGrid odd(mapping.count);
+    std::uint32_t i = begin;
+    for (; i + 1 < end; i += 2) {
+        add(refs[i], grid);
+        add(refs[i + 1], odd);
+    }
+    if (i != end) add(refs[i], grid);
+    grid.merge(odd);
+}
+
+void fill_bins(std::span<const PrimitiveRef> refs, const BuildRange& range, const BinMapping& mapping, int single_axis,
+               BinGrid& grid) {
+    auto fill = [&](std::uint32_t begin, std::uint32_t end, BinGrid& out) {
+        if (single_axis < 0)
+            fill_bins<true>(refs, begin, end, mapping, single_axis, out);
+        else
+            fill_bins<false>(refs, begin, end, mapping, single_axis, out);
+    };
+    if (range.count() < kParallelBinningMin) {
+        fill(range.begin, range.end, grid);
+        return;
+    }
+    grid = tbb::parallel_reduce(
+        tbb::blocked_range<std::uint32_t>(range.begin, range.end, kBinningGrain), grid,
+        [&](const tbb::blocked_range<std::uint32_t>& r, BinGrid partial) {
+            fill(r.begin(), r.end(), partial);
+            return partial;
+        },
+        [](BinGrid a, const BinGrid& b) {
+            a.merge(b);
+            return a;
+        });
+}
+
+/// Copies refs [begin, end) from `from` to `to` and returns the union of their centroids,
+/// computed as PrimitiveRef::centroid computes them.
+Aabb copy_and_bound_centroids(const PrimitiveRef* from, PrimitiveRef* to, std::uint32_t begin, std::uint32_t end) {
+    const Float4 xyz = xsimd::bitwise_cast<Float4>(Int4{-1, -1, -1, 0});
+    Float4 lo_bound(kInfinity), hi_bound(-kInfinity);
+    for (std::uint32_t i = begin; i != end; ++i) {
+        const Float4 centroid = ((load_lo(from[i]) & xyz) + load_hi(from[i])) * Float4(0.5f);
+        lo_bound = xsimd::min(lo_bound, centroid);
+        hi_bound = xsimd::max(hi_bound, centroid);
+        to[i] = from[i];
+    }
+    alignas(16) float l[4], h[4];
+    lo_bound.store_aligned(l);
+    hi_bound.store_aligned(h);
+    return {{l[0], l[1], l[2]}, {h[0], h[1], h[2]}};
+}
+
+Aabb union_of_bins(const BinBox* boxes, int first, int last) {
+    BinBox all;
+    all.clear();
+    for (int b = first; b <= last; ++b) all.add(boxes[b]);
+    return all.bounds();
+}
+
+/// Growing boxes of the three axes, each as x, y, z lanes.
+struct AxisBoxes {
+    Float4 lo[3] = {Float4(kInfinity), Float4(kInfinity), Float4(kInfinity)};
+    Float4 hi[3] = {Float4(-kInfinity), Float4(-kInfinity), Float4(-kInfinity)};
+
+    void add(const BinGrid& grid, int bin) {
+        for (int axis = 0; axis < 3; ++axis) {
+            lo[axis] = xsimd::min(lo[axis], Float4::load_aligned(grid.boxes[axis][bin].lo));
+            hi[axis] = xsimd::max(hi[axis], Float4::load_aligned(grid.boxes[axis][bin].hi));
+        }
+    }
+    /// The three surface areas, one lane per axis, by the formula of Aabb::surface_area (a box
+    /// still empty gives +inf, never NaN).
+    Float4 surface_areas() const {
+        using Double2 = xsimd::batch<double, Float4::arch_type>;
+        const Float4 e0 = hi[0] - lo[0], e1 = hi[1] - lo[1], e2 = hi[2] - lo[2], zero(0.0f);
+        // Transpose the extents so that ex holds the x extents of the three boxes, and so on.
+        const Double2 xy01 = xsimd::bitwise_cast<Double2>(xsimd::zip_lo(e0, e1));   // x0 x1 y0 y1
+        const Double2 zw01 = xsimd::bitwise_cast<Double2>(xsimd::zip_hi(e0, e1));   // z0 z1 . .
+        const Double2 xy2 = xsimd::bitwise_cast<Double2>(xsimd::zip_lo(e2, zero));  // x2 0 y2 0
+        const Double2 zw2 = xsimd::bitwise_cast<Double2>(xsimd::zip_hi(e2, zero));  // z2 0 . .
+        const Float4 ex = xsimd::bitwise_cast<Float4>(xsimd::zip_lo(xy01, xy2));
+        const Float4 ey = xsimd::bitwise_cast<Float4>(xsimd::zip_hi(xy01, xy2));
+        const Float4 ez = xsimd::bitwise_cast<Float4>(xsimd::zip_lo(zw01, zw2));
+        return Float4(2.0f) * (ex * ey + ey * ez + ez * ex);
+    }
+};
+
+/// The cheapest boundary between bins, evaluated for the three axes at once (one lane each, as
+/// Embree's binner does). Axes that were not binned or cannot be split have all their
+/// references in one bin and so offer no boundary with references on both sides.
+BinnedSahSplitter::Split cheapest_boundary(const BinGrid& grid, const BvhOptions& options, float node_area) {
+    const int n = grid.count;
+    alignas(16) float right_area[kBinCapacity][4];
+    alignas(16) std::int32_t right_count[kBinCapacity][4];
+    AxisBoxes boxes;
+    Int4 count(0);
+    for (int b = n - 1; b > 0; --b) {
+        boxes.add(grid, b);
+        count += Int4::load_aligned(grid.counts[b]);
+        boxes.surface_areas().store_aligned(right_area[b]);
+        count.store_aligned(right_count[b]);
+    }
+    const Float4 traversal(options.traversal_cost * node_area), intersection(options.intersection_cost);
+    const Float4 zero(0.0f);
+    Float4 best_cost(kInfinity), best_bin(0.0f);  // bin numbers are small, exact as floats
+    boxes = AxisBoxes{};
+    count = Int4(0);
+    for (int b = 0; b < n - 1; ++b) {
+        boxes.add(grid, b);
+        count += Int4::load_aligned(grid.counts[b]);
+        const Float4 left_count = xsimd::batch_cast<float>(count);
+        const Float4 right_count_b = xsimd::batch_cast<float>(Int4::load_aligned(right_count[b + 1]));
+        const Float4 cost = traversal + intersection * (boxes.surface_areas() * left_count +
+                                                        Float4::load_aligned(right_area[b + 1]) * right_count_b);
+        const auto better = (left_count > zero) & (right_count_b > zero) & (cost < best_cost);
+        best_cost = xsimd::select(better, cost, best_cost);
+        best_bin = xsimd::select(better, Float4(float(b)), best_bin);
+    }
+    alignas(16) float costs[4], bins[4];
+    best_cost.store_aligned(costs);
+    best_bin.store_aligned(bins);
+    BinnedSahSplitter::Split best;
+    for (int axis = 0; axis < 3; ++axis)
+        if (costs[axis] < best.cost) {  // ties keep the lower axis
+            best.axis = axis;
+            best.last_left_bin = int(bins[axis]);
+            best.cost = costs[axis];
+        }
+    for (int b = 0; best.axis >= 0 && b <= best.last_left_bin; ++b)
+        best.left_count += std::uint32_t(grid.counts[b][best.axis]);
+    return best;
+}
+
+}  // namespace
+
+BinMapping::BinMapping(const Aabb& centroid_bounds, int bin_count) : count(bin_count) {
+    for (int axis = 0; axis < 3; ++axis) {
+        const float extent = centroid_bounds.hi[axis] - centroid_bounds.lo[axis];
+        const float s = extent > 0.0f ? float(bin_count) / extent : 0.0f;
+        origin[axis] = centroid_bounds.lo[axis];
+        scale[axis] = std::isfinite(s) ? s : 0.0f;  // an extent too small to divide by cannot be binned
+    }
+}
+
+BinnedSahSplitter::BinnedSahSplitter(std::span<PrimitiveRef> refs, const BvhOptions& options)
+    : refs_(refs), scratch_(std::make_unique_for_overwrite<PrimitiveRef[]>(refs.size())), options_(options) {}
+
+int BinnedSahSplitter::bins_for_count(std::uint32_t count) const {
+    if (count >= BvhOptions::kLargeNodeMin) return options_.large_node_bin_count;
+    return int(std::min<std::uint32_t>(std::uint32_t(options_.bin_count), 4u + count / 4u));
+}
+
+BinnedSahSplitter::Split BinnedSahSplitter::find_sah_split(const BuildRange& range) const {
+    if (range.count() == 2) return split_pair(range);
+    Split best;
+    const BinMapping mapping(range.centroid_bounds, bins_for_count(range.count()));
+    const int single_axis = options_.all_axes ? -1 : range.centroid_bounds.largest_axis();
+    if (single_axis >= 0 ? !mapping.can_split(single_axis)
+                         : !(mapping.can_split(0) || mapping.can_split(1) || mapping.can_split(2)))
+        return best;
+    BinGrid grid(mapping.count);
+    fill_bins(refs_, range, mapping, single_axis, grid);
+    best = cheapest_boundary(grid, options_, range.bounds.surface_area());
+    if (best.axis >= 0) {
+        best.left_bounds = union_of_bins(grid.boxes[best.axis], 0, best.last_left_bin);
+        best.right_bounds = union_of_bins(grid.boxes[best.axis], best.last_left_bin + 1, grid.count - 1);
+    }
+    return best;
+}
+
+BinnedSahSplitter::Split BinnedSahSplitter::split_pair(const BuildRange& range) const {
+    Split split;
+    const int axis = range.centroid_bounds.largest_axis();
+    if (!(range.centroid_bounds.hi[axis] > range.centroid_bounds.lo[axis])) return split;  // coinciding centroids
+    const PrimitiveRef& a = refs_[range.begin];
+    const PrimitiveRef& b = refs_[range.begin + 1];
+    const bool a_first = a.centroid(axis) < b.centroid(axis);
+    split.axis = axis;
+    split.left_count = 1;
+    split.left_bounds = (a_first ? a : b).bounds();
+    split.right_bounds = (a_first ? b : a).bounds();
+    split.cost = options_.traversal_cost * range.bounds.surface_area() +
+                 options_.intersection_cost * (split.left_bounds.surface_area() + split.right_bounds.surface_area());
+    return split;
+}
+
+ChildRanges BinnedSahSplitter::partition(const BuildRange& range, const Split& split) {
+    if (range.count() == 2) {
+        PrimitiveRef* pair = refs_.data() + range.begin;
+        if (!(pair[0].centroid(split.axis) < pair[1].centroid(split.axis))) std::swap(pair[0], pair[1]);
+        return {{range.begin, range.begin + 1, split.left_bounds, {pair[0].centroid(), pair[0].centroid()}},
+                {range.begin + 1, range.end, split.right_bounds, {pair[1].centroid(), pair[1].centroid()}},
+                split.axis};
+    }
+    // Scatter into scratch without branches (left from the front, right from the back: a
+    // data-dependent branch would mispredict half the time), then copy back, bounding centroids.
+    const BinMapping mapping(range.centroid_bounds, bins_for_count(range.count()));
+    const int axis = split.axis;
+    // Each reference is written to both candidate slots; the wrong one lies in the gap between
+    // the two fronts and is overwritten later (when the fronts meet, both slots are the same).
+    std::uint32_t left_end = range.begin, right_begin = range.end;
+    for (std::uint32_t i = range.begin; i != range.end; ++i) {
+        const std::uint32_t left = mapping.bin(refs_[i].centroid(axis), axis) <= split.last_left_bin;
+        scratch_[left_end] = refs_[i];
+        scratch_[right_begin - 1] = refs_[i];
+        left_end += left;
+        right_begin -= 1 - left;
+    }
+    assert(left_end == right_begin && left_end - range.begin == split.left_count);
+    const Aabb left_centroids = copy_and_bound_centroids(scratch_.get(), refs_.data(), range.begin, left_end);
+    const Aabb right_centroids = copy_and_bound_centroids(scratch_.get(), refs_.data(), left_end, range.end);
+    return {{range.begin, left_end, split.left_bounds, left_centroids},
+            {left_end, range.end, split.right_bounds, right_centroids},
+            axis};
+}
+
+ChildRanges BinnedSahSplitter::partition_median(const BuildRange& range) {
+    const int axis = range.centroid_bounds.largest_axis();
+    const std::uint32_t mid = range.begin + range.count() / 2;
+    std::nth_element(
+        refs_.begin() + range.begin, refs_.begin() + mid, refs_.begin() + range.end,
+        [axis](const PrimitiveRef& a, const PrimitiveRef& b) { return a.centroid(axis) < b.centroid(axis); });
+    ChildRanges out{{range.begin, mid, {}, {}}, {mid, range.end, {}, {}}, axis};
+    for (BuildRange* side : {&out.left, &out.right})
+        for (std::uint32_t i = side->begin; i != side->end; ++i) {
+            side->bounds.extend(refs_[i].bounds());
+            side->centroid_bounds.extend(refs_[i].centroid());
+        }
+    return out;
+}
+
+}  // namespace trident::bvh

@@ -1,0 +1,64 @@
+#include "accel/bvh/bvh.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <stdexcept>
+#include <string>
+
+#include "accel/bvh/binned_sah_splitter.h"
+#include "accel/bvh/build_primitives.h"
+#include "accel/bvh/bvh_stats.h"
+#include "accel/bvh/sweep_sah_splitter.h"
+#include "accel/bvh/tree_builder.h"
+
+namespace trident {
+
+namespace {
+
+constexpr std::size_t kGatherGrain = 1 << 14;
+
+template <class IdOf>
+std::vector<TriangleId> gather_ids(std::size_t count, IdOf id_of) {
+    std::vector<TriangleId> ids(count);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGatherGrain), [&](const auto& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) ids[i] = id_of(i);
+    });
+    return ids;
+}
+
+}  // namespace
+
+Bvh Bvh::build(const Mesh& mesh, const BvhOptions& options) {
+    options.validate();
+    if (mesh.triangle_count() >= std::size_t(kNoTriangle))
+        throw std::length_error("Bvh: " + std::to_string(mesh.triangle_count()) + " triangles exceed 32-bit ids");
+    const auto start = std::chrono::steady_clock::now();
+
+    Bvh result;
+    result.options_ = options;
+    std::vector<bvh::PrimitiveRef> refs = bvh::make_primitive_refs(mesh);
+    const bvh::BuildRange root = bvh::whole_range(refs);
+    if (options.builder == BvhBuilder::binned_sah) {
+        bvh::BinnedSahSplitter splitter(refs, options);
+        result.nodes_ = bvh::TreeBuilder(splitter, options).build(root);
+        result.triangle_ids_ = gather_ids(refs.size(), [&](std::size_t i) { return refs[i].id; });
+    } else {
+        bvh::SweepSahSplitter splitter(refs, options);
+        result.nodes_ = bvh::TreeBuilder(splitter, options).build(root);
+        result.triangle_ids_ = gather_ids(refs.size(), [&](std::size_t i) { return splitter.leaf_order()[i]; });
+    }
+    result.triangles_.resize(refs.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, refs.size(), kGatherGrain), [&](const auto& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i)
+            result.triangles_[i] = triangle_of(mesh, result.triangle_ids_[i]);
+    });
+
+    const double build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    result.stats_ = bvh_stats(result.nodes_, mesh.triangle_count(), options);
+    result.stats_.build_ms = build_ms;
+    return result;
+}
+
+}  // namespace trident

@@ -1,0 +1,37 @@
+#include "accel/bvh/bvh_options.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace trident {
+
+const char* to_string(BvhBuilder builder) { return builder == BvhBuilder::binned_sah ? "binned_sah" : "sweep_sah"; }
+
+BvhOptions BvhOptions::study() {
+    BvhOptions options;
+    options.all_axes = false;
+    options.large_node_bin_count = options.bin_count;  // one bucket count throughout
+    options.traversal_cost = 0.25f;
+    options.intersection_cost = 1.0f;
+    return options;
+}
+
+void BvhOptions::validate() const {
+    auto fail = [](const std::string& what) { throw std::invalid_argument("BvhOptions: " + what); };
+    if (builder != BvhBuilder::binned_sah && builder != BvhBuilder::sweep_sah) fail("unknown builder");
+    if (bin_count < kMinBins || bin_count > kMaxBins)
+        fail("bin_count " + std::to_string(bin_count) + " is outside [" + std::to_string(kMinBins) + ", " +
+             std::to_string(kMaxBins) + "]");
+    if (large_node_bin_count < bin_count || large_node_bin_count > kMaxLargeNodeBins)
+        fail("large_node_bin_count " + std::to_string(large_node_bin_count) + " is outside [bin_count, " +
+             std::to_string(kMaxLargeNodeBins) + "]");
+    if (!(std::isfinite(traversal_cost) && traversal_cost >= 0.0f)) fail("traversal_cost must be finite and >= 0");
+    if (!(std::isfinite(intersection_cost) && intersection_cost > 0.0f))
+        fail("intersection_cost must be finite and > 0");
+    if (max_leaf_size < 1 || max_leaf_size > kMaxLeafSizeLimit)
+        fail("max_leaf_size " + std::to_string(max_leaf_size) + " is outside [1, " + std::to_string(kMaxLeafSizeLimit) +
+             "]");
+}
+
+}  // namespace trident

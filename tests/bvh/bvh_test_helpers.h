@@ -1,0 +1,141 @@
+#pragma once
+// Shared by the BVH tests: tracing a batch of rays, the built-in scenes and camera rays for them,
+// and the structural invariants every flattened BVH must satisfy.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "accel/bvh/bvh.h"
+#include "accel/bvh/bvh_stats.h"
+#include "core/scene.h"
+#include "scenes/builtin.h"
+
+namespace trident::testing {
+
+template <TriangleTest Test = TriangleTest::watertight>
+std::vector<Hit> trace_all(const Bvh& bvh, const std::vector<Ray>& rays) {
+    std::vector<Hit> hits;
+    hits.reserve(rays.size());
+    NoCounters counters;
+    for (const Ray& ray : rays) hits.push_back(bvh.intersect<Test>(ray, counters));
+    return hits;
+}
+
+/// Primary rays of the scene's camera (BENCHMARK.md's pinhole, 16:9) through random pixels.
+inline std::vector<Ray> camera_rays(const CameraSpec& camera, std::size_t count, std::uint32_t seed) {
+    constexpr float kPi = 3.14159265358979f;
+    const Vec3f forward = normalize(camera.target - camera.eye);
+    const Vec3f right = normalize(cross(forward, camera.up));
+    const Vec3f up = cross(right, forward);
+    const float ty = std::tan(camera.fov_y_deg * kPi / 360.0f), tx = ty * 16.0f / 9.0f;
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+    std::vector<Ray> rays(count);
+    for (Ray& ray : rays) {
+        ray.origin = camera.eye;
+        ray.dir = normalize(forward + right * (unit(rng) * tx) + up * (unit(rng) * ty));
+    }
+    return rays;
+}
+
+/// The built-in scene and its BVH (default options), each made once per test run: several tests
+/// use the big ones.
+inline const Scene& builtin_scene(const std::string& name) {
+    static std::map<std::string, Scene> cache;
+    auto it = cache.find(name);
+    if (it == cache.end()) it = cache.emplace(name, make_builtin_scene(name)).first;
+    return it->second;
+}
+inline const Bvh& builtin_bvh(const std::string& name) {
+    static std::map<std::string, Bvh> cache;
+    auto it = cache.find(name);
+    if (it == cache.end()) it = cache.emplace(name, Bvh::build(builtin_scene(name).mesh)).first;
+    return it->second;
+}
+
+/// Every structural promise of the flattened layout, checked against the mesh it was built from.
+/// Violations are counted and checked once per kind, so big scenes stay fast to check.
+inline void check_invariants(const Bvh& bvh, const Mesh& mesh) {
+    const auto nodes = bvh.nodes();
+    const auto triangles = bvh.leaf_triangles();
+    const auto ids = bvh.leaf_triangle_ids();
+    const std::size_t n = mesh.triangle_count();
+    REQUIRE(triangles.size() == n);
+    REQUIRE(ids.size() == n);
+    REQUIRE(nodes.empty() == (n == 0));
+
+    // Leaf-order slots hold each file-order triangle exactly once, with its exact corners.
+    std::vector<int> seen_id(n, 0);
+    std::size_t wrong_corners = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (ids[i] >= n) FAIL("leaf slot ", i, " holds id ", ids[i], " of ", n);
+        ++seen_id[ids[i]];
+        const Triangle expected = triangle_of(mesh, ids[i]);
+        wrong_corners +=
+            !(triangles[i].a == expected.a && triangles[i].b == expected.b && triangles[i].c == expected.c);
+    }
+    CHECK(wrong_corners == 0);
+    CHECK(std::count(seen_id.begin(), seen_id.end(), 1) == std::ptrdiff_t(n));
+
+    // Depth-first walk: every node is visited at its own index (left child right after its
+    // parent, right child after the whole left subtree); leaves tile the slots exactly once.
+    std::vector<int> slot_covered(n, 0);
+    std::size_t next = 0, leaves = 0, references = 0, max_leaf = 0, max_depth = 0;
+    std::size_t out_of_order = 0, child_outside_parent = 0, triangle_outside_leaf = 0, oversized_leaves = 0,
+                bad_axes = 0;
+    auto walk = [&](auto&& self, std::uint32_t index, std::size_t depth, const Aabb* parent) -> void {
+        out_of_order += index != next;
+        if (index >= nodes.size()) FAIL("node index ", index, " of ", nodes.size());
+        next = index + 1;
+        const BvhNode& node = nodes[index];
+        max_depth = std::max(max_depth, depth);
+        if (parent) child_outside_parent += !parent->contains(node.bounds);
+        if (node.is_leaf()) {
+            ++leaves;
+            references += node.triangle_count();
+            max_leaf = std::max<std::size_t>(max_leaf, node.triangle_count());
+            oversized_leaves += node.triangle_count() > std::uint32_t(bvh.options().max_leaf_size);
+            if (node.first_triangle() + node.triangle_count() > n) FAIL("leaf ", index, " runs past the triangles");
+            for (std::uint32_t i = node.first_triangle(); i < node.first_triangle() + node.triangle_count(); ++i) {
+                ++slot_covered[i];
+                triangle_outside_leaf += !node.bounds.contains(triangles[i].bounds());
+            }
+            return;
+        }
+        bad_axes += node.split_axis() >= 3;
+        self(self, index + 1, depth + 1, &node.bounds);
+        out_of_order += node.right_child() != next;
+        self(self, node.right_child(), depth + 1, &node.bounds);
+    };
+    if (!nodes.empty()) walk(walk, 0, 0, nullptr);
+    CHECK(out_of_order == 0);
+    CHECK(next == nodes.size());
+    CHECK(child_outside_parent == 0);
+    CHECK(triangle_outside_leaf == 0);
+    CHECK(oversized_leaves == 0);
+    CHECK(bad_axes == 0);
+    CHECK(std::count(slot_covered.begin(), slot_covered.end(), 1) == std::ptrdiff_t(n));
+    CHECK(max_depth <= kBvhMaxDepth);
+
+    const AccelStats& stats = bvh.stats();
+    CHECK(stats.structure == "bvh");
+    CHECK(stats.triangles == n);
+    CHECK(stats.nodes == nodes.size());
+    CHECK(stats.leaves == leaves);
+    CHECK(stats.empty_leaves == 0);
+    CHECK(stats.references == references);
+    CHECK(stats.references == n);
+    CHECK(stats.max_leaf_size == max_leaf);
+    CHECK(stats.max_depth == max_depth);
+    CHECK(stats.mean_leaf_size == doctest::Approx(leaves ? double(references) / double(leaves) : 0.0));
+    CHECK(stats.bytes == nodes.size() * sizeof(BvhNode) + n * (sizeof(Triangle) + sizeof(TriangleId)));
+    CHECK(stats.sah_cost == bvh_sah_cost(nodes, bvh.options().traversal_cost, bvh.options().intersection_cost));
+    CHECK(stats.build_ms >= 0.0);
+}
+
+}  // namespace trident::testing
