@@ -1,0 +1,490 @@
+#include "accel/kdtree/kd_build.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "accel/kdtree/clip_triangle.h"
+#include "accel/kdtree/kd_event.h"
+#include "accel/kdtree/radix_sort.h"
+#include "accel/kdtree/sah_sweep.h"
+#include "accel/kdtree/scratch_arena.h"
+
+namespace trident {
+
+namespace {
+
+using kd::Event;
+using kd::EventType;
+using kd::ScratchArena;
+
+/// Lists at least this long are processed one axis per task.
+constexpr std::size_t kParallelAxesFrom = 16384;
+/// Events hold a node-local triangle index in 30 bits.
+constexpr std::size_t kMaxTriangles = std::size_t(1) << 30;
+/// Straddlers clipped per task (perfect splits).
+constexpr std::size_t kClipGrain = 1024;
+
+/// Where a triangle goes relative to the split plane; straddlers also get fresh events.
+constexpr std::uint8_t kBelow = 1, kAbove = 2, kBoth = 3, kFreshEvents = 4;
+
+/// One node under construction: its cell, its triangles under node-local indices, and their
+/// events. All spans live in a ScratchArena.
+struct NodeWork {
+    Aabb cell;
+    std::span<std::uint32_t> prims;     // local index -> triangle id
+    std::span<std::uint8_t> flat_axes;  // local index -> bit a set when its bounds here are flat on axis a
+    std::array<std::span<Event>, 3> events;
+
+    std::size_t size() const { return prims.size(); }
+};
+
+struct Split {
+    int axis = -1;
+    float position = 0.0f;
+    bool planars_below = false;  // the triangles lying in the plane go below (else above)
+    double cost = std::numeric_limits<double>::infinity();
+
+    bool found() const { return axis >= 0; }
+};
+
+/// A subtree in the final depth-first layout with indices relative to itself (nodes[0] is its
+/// root). A node large enough to build its children as tasks is always the root of its subtree;
+/// it then holds only that root, and the children are subtrees of their own.
+struct Subtree {
+    std::vector<KdNode> nodes;
+    std::vector<TriangleId> leaf_triangles;
+    std::array<std::unique_ptr<Subtree>, 2> children;  // set when the root's children were tasks
+};
+
+/// Per thread: `kept` holds children's lists until both children are built, `temp` what one split
+/// needs only while it runs.
+struct ThreadScratch {
+    ScratchArena kept, temp;
+};
+
+const KdNode kPlaceholder = KdNode::leaf(0, 0);
+
+std::uint8_t flat_axes_of(const Aabb& box) {
+    return std::uint8_t((box.lo.x == box.hi.x ? 1 : 0) | (box.lo.y == box.hi.y ? 2 : 0) |
+                        (box.lo.z == box.hi.z ? 4 : 0));
+}
+
+Aabb intersection(const Aabb& a, const Aabb& b) { return {max(a.lo, b.lo), min(a.hi, b.hi)}; }
+
+/// Interleaves the low 10 bits of three integers given as floats in [0, 1024).
+std::uint32_t morton_code(const Vec3f& cell) {
+    auto spread = [](float value) {
+        std::uint32_t x = std::uint32_t(value) & 0x3FFu;
+        x = (x | x << 16) & 0x030000FFu;
+        x = (x | x << 8) & 0x0300F00Fu;
+        x = (x | x << 4) & 0x030C30C3u;
+        return (x | x << 2) & 0x09249249u;
+    };
+    return spread(cell.x) | spread(cell.y) << 1 | spread(cell.z) << 2;
+}
+
+/// Events on `axis` for each flat-axes entry: 1 where the bounds are flat, 2 elsewhere.
+std::size_t event_count(std::span<const std::uint8_t> flat_axes, int axis) {
+    std::size_t flat = 0;
+    for (const std::uint8_t f : flat_axes) flat += (f >> axis) & 1u;
+    return 2 * flat_axes.size() - flat;
+}
+
+/// Writes the events of `boxes` on `axis` in the order the radix sort needs (ends, planars,
+/// starts) with local indices first_index, first_index + 1, ... `out` holds exactly as many.
+template <class BoxOf>
+void write_events(std::size_t count, BoxOf box_of, int axis, std::uint32_t first_index, std::size_t flat,
+                  std::span<Event> out) {
+    Event* ends = out.data();
+    Event* planars = ends + (count - flat);
+    Event* starts = planars + flat;
+    for (std::size_t i = 0; i < count; ++i) {
+        const Aabb& box = box_of(i);
+        const auto index = std::uint32_t(first_index + i);
+        if (box.lo[axis] == box.hi[axis]) {
+            *planars++ = Event::make(box.lo[axis], index, EventType::planar);
+        } else {
+            *ends++ = Event::make(box.hi[axis], index, EventType::end);
+            *starts++ = Event::make(box.lo[axis], index, EventType::start);
+        }
+    }
+}
+
+/// Runs f(0), f(1), f(2), as parallel tasks when `parallel`.
+template <class F>
+void for_each_axis(bool parallel, F f) {
+    if (parallel)
+        tbb::parallel_invoke([&] { f(0); }, [&] { f(1); }, [&] { f(2); });
+    else
+        for (int axis = 0; axis < 3; ++axis) f(axis);
+}
+
+class SahBuilder {
+public:
+    SahBuilder(std::span<const Triangle> triangles, const KdTreeOptions& options)
+        : triangles_(triangles), options_(options) {}
+
+    KdBuildResult run() {
+        KdBuildResult result;
+        ThreadScratch& scratch = scratch_.local();
+        const NodeWork root = make_root(scratch, result.bounds);
+        if (root.size() == 0) return result;
+        max_depth_ = options_.depth_limit(root.size());
+        Subtree tree;
+        build_subtree(root, tree, 0, 0, scratch);
+        result.nodes.push_back(kPlaceholder);
+        emit(tree, 0, result);
+        return result;
+    }
+
+private:
+    NodeWork make_root(ThreadScratch& scratch, Aabb& bounds) {
+        bounds_.resize(triangles_.size());
+        std::size_t finite = 0;
+        for (std::size_t i = 0; i < triangles_.size(); ++i) {
+            const Triangle& t = triangles_[i];
+            bounds_[i] = t.bounds();
+            if (is_finite(t.a) && is_finite(t.b) && is_finite(t.c)) {
+                bounds.extend(bounds_[i]);
+                ++finite;
+            }
+        }
+        if (finite > kMaxTriangles)
+            throw std::length_error("kd-tree: " + std::to_string(finite) + " triangles exceed the " +
+                                    std::to_string(kMaxTriangles) + " an event can index (30 bits)");
+        NodeWork root{
+            bounds, scratch.kept.allocate<std::uint32_t>(finite), scratch.kept.allocate<std::uint8_t>(finite), {}};
+        const ScratchArena::Mark temp_mark = scratch.temp.mark();
+        // Local indices in Morton order of the triangles' centres: the splitting passes look up
+        // per-triangle data by the index of each event, and events near in space then touch
+        // memory near in the array. The tree does not depend on this order.
+        const std::span<std::uint64_t> coded = scratch.temp.allocate<std::uint64_t>(finite);
+        const Vec3f extent = max(bounds.extent(), Vec3f(std::numeric_limits<float>::min()));
+        const Vec3f scale{1023.0f / extent.x, 1023.0f / extent.y, 1023.0f / extent.z};
+        std::size_t n = 0;
+        for (std::size_t i = 0; i < triangles_.size(); ++i) {
+            const Triangle& t = triangles_[i];
+            if (!(is_finite(t.a) && is_finite(t.b) && is_finite(t.c))) continue;
+            const Vec3f cell = (bounds_[i].center() - bounds.lo) * scale;
+            coded[n++] = std::uint64_t(morton_code(cell)) << 32 | i;
+        }
+        kd::radix_sort(coded, scratch.temp.allocate<std::uint64_t>(n),
+                       [](std::uint64_t c) { return std::uint32_t(c >> 32); });
+        for (std::size_t j = 0; j < n; ++j) {
+            root.prims[j] = std::uint32_t(coded[j]);
+            root.flat_axes[j] = flat_axes_of(bounds_[root.prims[j]]);
+        }
+        std::array<std::size_t, 3> sizes{};
+        for (int axis = 0; axis < 3; ++axis) {
+            sizes[axis] = event_count(root.flat_axes, axis);
+            root.events[axis] = scratch.kept.allocate<Event>(sizes[axis]);
+        }
+        const std::span<Event> sort_space = scratch.temp.allocate<Event>(3 * 2 * n);
+        for_each_axis(n >= kParallelAxesFrom, [&](int axis) {
+            const std::size_t flat = 2 * n - sizes[axis];
+            write_events(
+                n, [&](std::size_t i) -> const Aabb& { return bounds_[root.prims[i]]; }, axis, 0, flat,
+                root.events[axis]);
+            kd::sort_events(root.events[axis], sort_space.subspan(2 * n * std::size_t(axis)));
+        });
+        scratch.temp.release(temp_mark);
+        return root;
+    }
+
+    void build_subtree(const NodeWork& node, Subtree& out, int depth, int bad_refines, ThreadScratch& scratch) {
+        out.nodes.push_back(kPlaceholder);
+        build_node(node, out, 0, depth, bad_refines, scratch);
+    }
+
+    /// Builds the node into out.nodes[slot] and its descendants after it, depth first, the two
+    /// children of a node side by side.
+    void build_node(const NodeWork& node, Subtree& out, std::size_t slot, int depth, int bad_refines,
+                    ThreadScratch& scratch) {
+        Split split;
+        if (node.size() > options_.leaf_triangles && depth < max_depth_) {
+            split = find_split(node);
+            // pbrt: a split costing more than the leaf is allowed a few times in a row, in case the
+            // splits below it pay off; then, or when it is far worse for a small node, a leaf.
+            const double leaf_cost = double(options_.intersection_cost) * double(node.size());
+            if (split.found() && split.cost > leaf_cost) {
+                ++bad_refines;
+                if (bad_refines >= options_.max_bad_refines || (split.cost > 4.0 * leaf_cost && node.size() < 16))
+                    split = {};
+            } else {
+                bad_refines = 0;
+            }
+        }
+        if (!split.found()) {
+            make_leaf(node, out, slot);
+            return;
+        }
+
+        const ScratchArena::Mark mark = scratch.kept.mark();
+        const auto [below, above] = split_node(node, split, scratch);
+        if (node.size() >= options_.parallel_triangles) {
+            // Children as tasks, into subtrees of their own; emit() lays them out as the
+            // sequential branch would have. Children never outnumber their parent, so a node
+            // this large is the root of its subtree.
+            out.nodes[slot] = KdNode::interior(split.axis, split.position, 1);  // index set by emit()
+            for (auto& child : out.children) child = std::make_unique<Subtree>();
+            tbb::parallel_invoke(
+                [&] { build_subtree(below, *out.children[0], depth + 1, bad_refines, scratch_.local()); },
+                [&] { build_subtree(above, *out.children[1], depth + 1, bad_refines, scratch_.local()); });
+        } else {
+            const std::size_t first_child = out.nodes.size();
+            out.nodes[slot] = KdNode::interior(split.axis, split.position, first_child);
+            out.nodes.push_back(kPlaceholder);
+            out.nodes.push_back(kPlaceholder);
+            build_node(below, out, first_child, depth + 1, bad_refines, scratch);
+            build_node(above, out, first_child + 1, depth + 1, bad_refines, scratch);
+        }
+        scratch.kept.release(mark);
+    }
+
+    static void make_leaf(const NodeWork& node, Subtree& out, std::size_t slot) {
+        const std::size_t offset = out.leaf_triangles.size();
+        out.nodes[slot] = KdNode::leaf(std::uint32_t(node.size()), offset);
+        out.leaf_triangles.insert(out.leaf_triangles.end(), node.prims.begin(), node.prims.end());
+        if (node.size() > 1) std::sort(out.leaf_triangles.begin() + std::ptrdiff_t(offset), out.leaf_triangles.end());
+    }
+
+    /// Writes `tree` into `out` with its root at out.nodes[slot] and its other nodes appended.
+    static void emit(const Subtree& tree, std::size_t slot, KdBuildResult& out) {
+        if (tree.children[0]) {
+            const KdNode& root = tree.nodes[0];
+            const std::size_t first_child = out.nodes.size();
+            out.nodes[slot] = KdNode::interior(root.axis(), root.split(), first_child);
+            out.nodes.push_back(kPlaceholder);
+            out.nodes.push_back(kPlaceholder);
+            emit(*tree.children[0], first_child, out);
+            emit(*tree.children[1], first_child + 1, out);
+            return;
+        }
+        const std::size_t node_base = out.nodes.size() - 1;  // tree.nodes[j], j >= 1, lands at node_base + j
+        const std::size_t triangle_base = out.leaf_triangles.size();
+        auto moved = [&](const KdNode& n) {
+            return n.is_leaf() ? KdNode::leaf(n.triangle_count(), triangle_base + n.triangle_offset())
+                               : KdNode::interior(n.axis(), n.split(), node_base + n.below_child());
+        };
+        out.nodes[slot] = moved(tree.nodes[0]);
+        for (std::size_t j = 1; j < tree.nodes.size(); ++j) out.nodes.push_back(moved(tree.nodes[j]));
+        out.leaf_triangles.insert(out.leaf_triangles.end(), tree.leaf_triangles.begin(), tree.leaf_triangles.end());
+    }
+
+    // ---- Choosing the plane (Wald and Havran, section 4.2) ---------------------------------------
+
+    Split find_split(const NodeWork& node) const {
+        std::array<Split, 3> best;
+        for_each_axis(node.size() >= kParallelAxesFrom, [&](int axis) { best[axis] = sweep(node, axis); });
+        Split out;
+        for (const Split& s : best)
+            if (s.cost < out.cost) out = s;  // ties to the lower axis
+        return out;
+    }
+
+    /// The cheapest plane on one axis (sah_sweep.h).
+    Split sweep(const NodeWork& node, int axis) const {
+        const Vec3f extent = node.cell.extent();
+        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+        // Half surface areas: the children's faces across `axis` are fixed, their sides scale.
+        const double across = double(extent[u]) * double(extent[v]);
+        const double side = double(extent[u]) + double(extent[v]);
+        const double half_area = across + double(extent[axis]) * side;
+        if (!(half_area > 0.0)) return {};  // a cell reduced to a segment or a point
+        const float lo = node.cell.lo[axis], hi = node.cell.hi[axis];
+        const kd::SweepSetup setup{
+            std::int64_t(node.size()),         across - double(lo) * side, across + double(hi) * side, side, lo, hi,
+            1.0 - double(options_.empty_bonus)};
+        const kd::SweepBest best = kd::sweep_events(node.events[axis], setup);
+        if (!best.found()) return {};
+        const double cost =
+            double(options_.traversal_cost) + double(options_.intersection_cost) * best.weighted() / half_area;
+        return {axis, node.events[axis][best.tag >> 1].position, (best.tag & 1u) != 0, cost};
+    }
+
+    // ---- Splitting the node's lists (Wald and Havran, sections 4.3 and 4.4) ----------------------
+
+    std::array<NodeWork, 2> split_node(const NodeWork& node, const Split& split, ThreadScratch& scratch) const {
+        const std::size_t n = node.size();
+        const int k = split.axis;
+        const float p = split.position;
+        const ScratchArena::Mark temp_mark = scratch.temp.mark();
+
+        // Classify: one pass over the split axis. side &= rule[type][where], where compares the
+        // event with the plane (<, ==, >); a triangle no event claims straddles it.
+        const std::span<std::uint8_t> side = scratch.temp.allocate<std::uint8_t>(n);
+        std::fill(side.begin(), side.end(), kBoth);
+        const std::uint8_t in_plane = split.planars_below ? kBelow : kAbove;
+        const std::uint8_t rule[3][3] = {{kBelow, kBelow, kBoth}, {kBelow, in_plane, kAbove}, {kBoth, kAbove, kAbove}};
+        for (const Event& e : node.events[k]) {
+            const int where = int(e.position >= p) + int(e.position > p);
+            side[e.prim()] &= rule[e.prim_type & 3u][where];
+        }
+
+        // One pass over the triangles: the straddlers, and per child the one-sided triangles and
+        // how many of them are flat on each axis (one event there instead of two).
+        const std::span<std::uint32_t> all_straddlers = scratch.temp.allocate<std::uint32_t>(n);
+        std::size_t straddler_count = 0;
+        std::array<std::size_t, 2> kept_count{0, 0};
+        std::array<std::size_t, 3> flat_kept{0, 0, 0}, flat_kept_below{0, 0, 0};
+        for (std::size_t i = 0; i < n; ++i) {
+            const unsigned s = side[i], flat = node.flat_axes[i];
+            all_straddlers[straddler_count] = std::uint32_t(i);
+            straddler_count += s == kBoth;
+            kept_count[0] += s == kBelow;
+            kept_count[1] += s == kAbove;
+            for (int axis = 0; axis < 3; ++axis) {
+                const unsigned flat_here = (flat >> axis) & 1u;
+                flat_kept[axis] += flat_here & unsigned(s != kBoth);
+                flat_kept_below[axis] += flat_here & unsigned(s == kBelow);
+            }
+        }
+        const std::span<const std::uint32_t> straddlers = all_straddlers.first(straddler_count);
+
+        // The straddlers' bounds in each child: clamped to the child's cell, or clipped (perfect
+        // splits), which may show that the triangle misses one child.
+        std::array<Aabb, 2> cells{node.cell, node.cell};
+        cells[0].hi[k] = p;
+        cells[1].lo[k] = p;
+        const std::span<Aabb> straddler_bounds = scratch.temp.allocate<Aabb>(2 * straddler_count);
+        auto bound_straddlers = [&](std::size_t begin, std::size_t end) {
+            for (std::size_t j = begin; j < end; ++j) {
+                const std::uint32_t i = straddlers[j];
+                const TriangleId id = node.prims[i];
+                for (int c = 0; c < 2; ++c) straddler_bounds[2 * j + c] = intersection(bounds_[id], cells[c]);
+                if (options_.perfect_splits) {
+                    const auto below = kd::clipped_triangle_bounds(triangles_[id], cells[0]);
+                    const auto above = kd::clipped_triangle_bounds(triangles_[id], cells[1]);
+                    // Both empty only through rounding, for a triangle touching the plane: keep
+                    // the clamped boxes on both sides.
+                    if (below || above) side[i] = std::uint8_t((below ? kBelow : 0) | (above ? kAbove : 0));
+                    if (below) straddler_bounds[2 * j] = *below;
+                    if (above) straddler_bounds[2 * j + 1] = *above;
+                }
+                side[i] |= kFreshEvents;
+            }
+        };
+        if (options_.perfect_splits && straddler_count >= 2 * kClipGrain)
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, straddler_count, kClipGrain),
+                              [&](const tbb::blocked_range<std::size_t>& r) { bound_straddlers(r.begin(), r.end()); });
+        else
+            bound_straddlers(0, straddler_count);
+
+        // Sizes: triangles per child, and per child and axis the kept and the fresh events.
+        std::array<std::size_t, 2> fresh_count{0, 0};
+        std::array<std::array<std::size_t, 3>, 2> flat_fresh{}, fresh_size{}, total{};
+        for (std::size_t j = 0; j < straddler_count; ++j)
+            for (int c = 0; c < 2; ++c) {
+                if (!(side[straddlers[j]] & (1u << c))) continue;
+                ++fresh_count[c];
+                const Aabb& box = straddler_bounds[2 * j + std::size_t(c)];
+                for (int axis = 0; axis < 3; ++axis) flat_fresh[c][axis] += box.lo[axis] == box.hi[axis];
+            }
+        std::size_t fresh_total = 0, sort_size = 0;
+        std::array<NodeWork, 2> child;
+        for (int c = 0; c < 2; ++c) {
+            child[c].cell = cells[c];
+            child[c].prims = scratch.kept.allocate<std::uint32_t>(kept_count[c] + fresh_count[c]);
+            child[c].flat_axes = scratch.kept.allocate<std::uint8_t>(kept_count[c] + fresh_count[c]);
+            for (int axis = 0; axis < 3; ++axis) {
+                const std::size_t flat = c == 0 ? flat_kept_below[axis] : flat_kept[axis] - flat_kept_below[axis];
+                fresh_size[c][axis] = 2 * fresh_count[c] - flat_fresh[c][axis];
+                total[c][axis] = 2 * kept_count[c] - flat + fresh_size[c][axis];
+                fresh_total += fresh_size[c][axis];
+                sort_size = std::max(sort_size, fresh_size[c][axis]);
+            }
+            // One slot of slack after each list: the branch-free filter below may write one past.
+            const std::span<Event> lists = scratch.kept.allocate<Event>(total[c][0] + total[c][1] + total[c][2] + 3);
+            for (std::size_t axis = 0, at = 0; axis < 3; at += total[c][axis++] + 1)
+                child[c].events[axis] = lists.subspan(at, total[c][axis]);
+        }
+
+        // New local indices: one-sided triangles keep their order, straddlers follow. dest[i] is
+        // the new index << 2 | the side bits, 0 for a straddler (its events are made afresh).
+        const std::span<std::uint32_t> dest = scratch.temp.allocate<std::uint32_t>(n);
+        std::array<std::uint32_t, 2> next{0, 0};
+        for (std::size_t i = 0; i < n; ++i) {
+            const unsigned s = side[i];
+            if (s & kFreshEvents) {
+                dest[i] = 0;
+                continue;
+            }
+            const unsigned c = s >> 1;  // kBelow -> 0, kAbove -> 1
+            const std::uint32_t index = next[c]++;
+            child[c].prims[index] = node.prims[i];
+            child[c].flat_axes[index] = node.flat_axes[i];
+            dest[i] = index << 2 | s;
+        }
+        for (std::size_t j = 0; j < straddler_count; ++j) {
+            const std::uint32_t i = straddlers[j];
+            for (unsigned c = 0; c < 2; ++c) {
+                if (!(side[i] & (1u << c))) continue;
+                const std::uint32_t index = next[c]++;
+                child[c].prims[index] = node.prims[i];
+                child[c].flat_axes[index] = flat_axes_of(straddler_bounds[2 * j + c]);
+            }
+        }
+
+        // Per axis and child: the kept events, filtered in order, go to the tail of the child's
+        // list; the straddlers' fresh events are written, sorted and merged in front of them.
+        const std::span<Event> fresh_space = scratch.temp.allocate<Event>(fresh_total);
+        const bool parallel = n >= kParallelAxesFrom;
+        const std::span<Event> sort_space = scratch.temp.allocate<Event>((parallel ? 3 : 1) * sort_size);
+        for_each_axis(parallel, [&](int axis) {
+            Event* out[2] = {child[0].events[axis].data() + fresh_size[0][axis],
+                             child[1].events[axis].data() + fresh_size[1][axis]};
+            for (const Event& e : node.events[axis]) {
+                const std::uint32_t d = dest[e.prim()];
+                const Event moved{e.position, (d & ~3u) | (e.prim_type & 3u)};
+                *out[0] = moved;
+                *out[1] = moved;
+                out[0] += d & 1u;
+                out[1] += (d >> 1) & 1u;
+            }
+            if (straddler_count == 0) return;
+            const std::span<Event> sort_scratch = sort_space.subspan((parallel ? axis : 0) * sort_size, sort_size);
+            std::size_t fresh_at = 0;
+            for (int c = 0; c < 2; ++c) {
+                for (int a = 0; a < axis; ++a) fresh_at += fresh_size[c][a];
+                const std::span<Event> fresh = fresh_space.subspan(fresh_at, fresh_size[c][axis]);
+                for (int a = axis; a < 3; ++a) fresh_at += fresh_size[c][a];
+                if (fresh.empty()) continue;
+                // The straddlers this child keeps, in the order their indices were given.
+                std::size_t j = 0;
+                auto box_of = [&](std::size_t) -> const Aabb& {
+                    while (!(side[straddlers[j]] & (1u << c))) ++j;
+                    return straddler_bounds[2 * j++ + std::size_t(c)];
+                };
+                write_events(fresh_count[c], box_of, axis, std::uint32_t(kept_count[c]), flat_fresh[c][axis], fresh);
+                kd::sort_events(fresh, sort_scratch);
+                kd::merge_into_tail(fresh, child[c].events[axis]);
+            }
+        });
+        scratch.temp.release(temp_mark);
+        return child;
+    }
+
+    std::span<const Triangle> triangles_;
+    const KdTreeOptions& options_;
+    std::vector<Aabb> bounds_;  // per triangle (file order)
+    int max_depth_ = 0;
+    tbb::enumerable_thread_specific<ThreadScratch> scratch_;
+};
+
+}  // namespace
+
+KdBuildResult build_kdtree(std::span<const Triangle> triangles, const KdTreeOptions& options) {
+    return SahBuilder(triangles, options).run();
+}
+
+}  // namespace trident

@@ -1,0 +1,128 @@
+#pragma once
+// Scalar kd-tree traversal, front to back with a fixed stack of (node, t_min, t_max): the
+// recursive ray traversal of Havran's thesis (TA_rec_B) in pbrt's iterative form.
+//
+// The ray is first clipped to the scene box (core/slab_test.h). At an interior node the plane
+// distance t_split = (split - origin) * inv_dir decides: the near child alone (the ray leaves the
+// current interval before the plane), the far child alone (it crossed the plane before the
+// interval), or both, near first with [t_min, t_split] and far pushed with [t_split, t_max]. The
+// near child is the one below the plane when the direction is >= +0 (by its sign bit), so zero
+// components need no branch: 1/+-0 = +-inf sends t_split to +-inf on the correct side.
+//
+// A ray lying in a split plane (direction component +-0 and origin exactly on the plane) gives
+// 0 * inf = NaN. Both children are then visited over the whole interval: triangles lying in the
+// plane sit on whichever side the builder's SAH chose, and triangles touching the plane from
+// either side can be hit edge-on.
+//
+// Hits and termination: a hit found in a leaf is a true hit of the ray wherever it lies, so it is
+// kept even when it lies beyond the leaf's cell (a triangle straddling cells), and it bounds all
+// later tests. A pending cell is skipped when its entry distance lies beyond the best hit: no
+// hit in it can be closer. This is pbrt's rule, and it is correct for straddling triangles without
+// mailboxing and without discarding out-of-cell hits. Pending cells are skipped rather than the
+// traversal stopped, because the in-plane case pushes a cell whose entry is not the largest.
+//
+// Widening: t_split and the interval ends each carry up to three roundings (gamma(3) relative,
+// Ize 2013). Comparisons that decide whether to leave out a cell, and the skip test against the
+// best hit, therefore allow 2 gamma(3) of slack: a cell the ray meets only within rounding of its
+// boundary is visited rather than dropped, so a triangle touching that boundary from inside is
+// still found. The cost is a rare extra cell.
+//
+// Any-hit queries return at the first triangle hit in [ray.tmin, ray.tmax).
+#include <cmath>
+#include <cstdint>
+#include <span>
+
+#include "accel/kdtree/kd_node.h"
+#include "core/aabb.h"
+#include "core/intersect_triangle.h"
+#include "core/mesh.h"
+#include "core/ray.h"
+#include "core/slab_test.h"
+
+namespace trident {
+
+enum class KdQuery { closest_hit, any_hit };
+
+/// The flattened tree as the traversals read it.
+struct KdTreeView {
+    std::span<const KdNode> nodes;               // nodes[0] is the root; empty for an empty tree
+    std::span<const TriangleId> leaf_triangles;  // leaves' runs of triangle ids
+    std::span<const Triangle> triangles;         // corners in file order
+    Aabb bounds;                                 // the root's cell
+};
+
+namespace detail {
+
+inline constexpr float kKdSlack = 2.0f * rounding_gamma(3);
+inline float widened_up(float t) { return t + std::abs(t) * kKdSlack; }
+inline float widened_down(float t) { return t - std::abs(t) * kKdSlack; }
+
+}  // namespace detail
+
+template <KdQuery Query, TriangleTest Test, class Counters>
+Hit traverse_kdtree(const KdTreeView& tree, const Ray& ray, Counters& counters) {
+    using detail::widened_down;
+    using detail::widened_up;
+    Hit best;
+    const SlabRay slab(ray.origin, ray.dir);
+    float t_min, t_max;
+    if (tree.nodes.empty() || !clip_to_box(slab, tree.bounds.lo, tree.bounds.hi, ray.tmin, ray.tmax, t_min, t_max))
+        return best;
+    best.t = ray.tmax;
+    const TriangleIntersector<Test> intersector(ray);
+
+    struct Pending {
+        std::uint32_t node;
+        float t_min, t_max;
+    };
+    Pending stack[kKdMaxDepth];
+    int pending = 0;
+    std::uint32_t index = 0;
+    for (;;) {
+        counters.visit_node();
+        const KdNode node = tree.nodes[index];
+        if (!node.is_leaf()) {
+            const int axis = node.axis();
+            const float t_split = (node.split() - ray.origin[axis]) * slab.inv_dir[axis];
+            const bool below_first = !std::signbit(ray.dir[axis]);
+            const std::uint32_t near = below_first ? node.below_child() : node.above_child();
+            const std::uint32_t far = below_first ? node.above_child() : node.below_child();
+            if (std::isnan(t_split)) {  // the ray lies in the plane
+                stack[pending++] = {far, t_min, t_max};
+                index = near;
+            } else if (t_split > widened_up(t_max)) {
+                index = near;
+            } else if (t_split < widened_down(t_min)) {
+                index = far;
+            } else {
+                stack[pending++] = {far, t_split, t_max};
+                index = near;
+                t_max = t_split;
+            }
+            continue;
+        }
+
+        const TriangleId* ids = tree.leaf_triangles.data() + node.triangle_offset();
+        for (std::uint32_t i = 0; i < node.triangle_count(); ++i) {
+            counters.test_triangle();
+            TriangleHit h;
+            if (intersector.intersect(tree.triangles[ids[i]], best.t, h)) {
+                best = {ids[i], h.t, h.u, h.v};
+                if constexpr (Query == KdQuery::any_hit) return best;
+            }
+        }
+        // The next pending cell that may hold a closer hit.
+        do {
+            if (pending == 0) {
+                if (!best.is_hit()) best.t = kInfinity;
+                return best;
+            }
+            --pending;
+        } while (stack[pending].t_min > widened_up(best.t));
+        index = stack[pending].node;
+        t_min = stack[pending].t_min;
+        t_max = stack[pending].t_max;
+    }
+}
+
+}  // namespace trident

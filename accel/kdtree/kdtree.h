@@ -1,0 +1,58 @@
+#pragma once
+// The kd-tree: axis-aligned split planes chosen by the surface area heuristic over split-plane
+// events (the reference study, after pbrt), built in O(N log N) after Wald and Havran (2006), and
+// flattened into 8-byte nodes. Building: kd_build.h; options: kd_options.h; layout: kd_node.h;
+// traversal: kd_traversal.h.
+#include <span>
+#include <vector>
+
+#include "accel/accel_stats.h"
+#include "accel/kdtree/kd_node.h"
+#include "accel/kdtree/kd_options.h"
+#include "accel/kdtree/kd_traversal.h"
+#include "core/intersect_triangle.h"
+#include "core/mesh.h"
+
+namespace trident {
+
+class KdTree {
+public:
+    /// Throws std::invalid_argument on options out of range, std::length_error when the tree
+    /// outgrows the 30-bit indices of KdNode.
+    static KdTree build(const Mesh& mesh, const KdTreeOptions& options = {});
+
+    template <TriangleTest Test, class Counters>
+    Hit intersect(const Ray& ray, Counters& counters) const {
+        return traverse_kdtree<KdQuery::closest_hit, Test>(view(), ray, counters);
+    }
+    template <TriangleTest Test, class Counters>
+    bool occluded(const Ray& ray, Counters& counters) const {
+        return traverse_kdtree<KdQuery::any_hit, Test>(view(), ray, counters).is_hit();
+    }
+    Hit intersect(const Ray& ray) const {
+        NoCounters c;
+        return intersect<TriangleTest::watertight>(ray, c);
+    }
+    bool occluded(const Ray& ray) const {
+        NoCounters c;
+        return occluded<TriangleTest::watertight>(ray, c);
+    }
+
+    const AccelStats& stats() const { return stats_; }
+
+    // The flattened layout, for packet traversals and tests.
+    std::span<const KdNode> nodes() const { return nodes_; }
+    std::span<const TriangleId> leaf_triangles() const { return leaf_triangles_; }
+    std::span<const Triangle> triangles() const { return triangles_; }  // file order
+    const Aabb& bounds() const { return bounds_; }
+    KdTreeView view() const { return {nodes_, leaf_triangles_, triangles_, bounds_}; }
+
+private:
+    std::vector<KdNode> nodes_;
+    std::vector<TriangleId> leaf_triangles_;
+    std::vector<Triangle> triangles_;
+    Aabb bounds_;
+    AccelStats stats_;
+};
+
+}  // namespace trident

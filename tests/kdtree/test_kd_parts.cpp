@@ -1,0 +1,193 @@
+// The kd-tree's parts on their own: the packed node, event sorting and merging, the SAH sweep,
+// and clipping a triangle to a box for perfect splits.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <bit>
+#include <random>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "accel/kdtree/clip_triangle.h"
+#include "accel/kdtree/kd_event.h"
+#include "accel/kdtree/kd_node.h"
+#include "accel/kdtree/sah_sweep.h"
+
+using namespace trident;
+using kd::Event;
+using kd::EventType;
+
+TEST_CASE("an interior node keeps its axis, split position and first child; a leaf its count and offset") {
+    for (int axis = 0; axis < 3; ++axis) {
+        const KdNode node = KdNode::interior(axis, -1.25f, KdNode::kMaxIndex - 1);
+        CHECK_FALSE(node.is_leaf());
+        CHECK(node.axis() == axis);
+        CHECK(node.split() == -1.25f);
+        CHECK(node.below_child() == KdNode::kMaxIndex - 1);
+        CHECK(node.above_child() == KdNode::kMaxIndex);
+    }
+    const KdNode leaf = KdNode::leaf(0xFFFFFFFFu, KdNode::kMaxIndex);
+    CHECK(leaf.is_leaf());
+    CHECK(leaf.triangle_count() == 0xFFFFFFFFu);
+    CHECK(leaf.triangle_offset() == KdNode::kMaxIndex);
+    CHECK(KdNode::leaf(0, 0).is_leaf());
+}
+
+TEST_CASE("an index that does not fit in 30 bits is refused with a clear error") {
+    CHECK_THROWS_AS(KdNode::interior(0, 0.0f, std::size_t(KdNode::kMaxIndex) + 1), std::length_error);
+    CHECK_THROWS_AS(KdNode::leaf(1, std::size_t(1) << 32), std::length_error);
+    CHECK_THROWS_WITH(KdNode::interior(2, 0.0f, std::size_t(1) << 31),
+                      doctest::Contains("exceeds the 1073741824 entries a KdNode can index"));
+}
+
+TEST_CASE("events sort by position, then ends before planars before starts, by radix or comparison") {
+    for (const std::size_t count : {std::size_t(100), std::size_t(10000)}) {  // below and above the radix threshold
+        std::mt19937 rng{std::uint32_t(count)};
+        std::uniform_int_distribution<int> coarse(-20, 20), type(0, 2);
+        // Ends first, then planars, then starts, as the builder writes them for the radix sort.
+        std::vector<Event> events{Event::make(0.0f, 8, EventType::end)};  // -0 and +0 must sort together
+        for (int t = 0; t < 3; ++t)
+            for (std::size_t i = 0; i < count; ++i)
+                if (type(rng) == t)
+                    events.push_back(Event::make(float(coarse(rng)) * 0.5f, std::uint32_t(i), EventType(t)));
+        events.push_back(Event::make(-0.0f, 7, EventType::start));
+        std::vector<Event> scratch(events.size());
+        kd::sort_events(events, scratch);
+        CHECK(std::is_sorted(events.begin(), events.end(), kd::event_before));
+        for (std::size_t i = 1; i < events.size(); ++i)
+            if (events[i].position == events[i - 1].position) {
+                CHECK(events[i].type() >= events[i - 1].type());
+                CHECK(std::bit_cast<std::uint32_t>(events[i].position) ==
+                      std::bit_cast<std::uint32_t>(events[i - 1].position));
+            }
+    }
+}
+
+TEST_CASE("merging fresh events in front of the kept ones stored in the tail gives one sorted list") {
+    std::mt19937 rng(3);
+    std::uniform_int_distribution<int> coarse(0, 30), type(0, 2);
+    auto random_sorted = [&](std::size_t n) {
+        std::vector<Event> v;
+        for (std::size_t i = 0; i < n; ++i)
+            v.push_back(Event::make(float(coarse(rng)), std::uint32_t(i), EventType(type(rng))));
+        std::sort(v.begin(), v.end(), kd::event_before);
+        return v;
+    };
+    for (const auto& [fresh_count, kept_count] :
+         {std::pair{0, 5}, std::pair{5, 0}, std::pair{40, 60}, std::pair{60, 3}}) {
+        const std::vector<Event> fresh = random_sorted(std::size_t(fresh_count));
+        const std::vector<Event> kept = random_sorted(std::size_t(kept_count));
+        std::vector<Event> out(fresh.size() + kept.size());
+        std::copy(kept.begin(), kept.end(), out.begin() + std::ptrdiff_t(fresh.size()));
+        kd::merge_into_tail(fresh, out);
+        CHECK(std::is_sorted(out.begin(), out.end(), kd::event_before));
+        std::vector<Event> expected = fresh;
+        expected.insert(expected.end(), kept.begin(), kept.end());
+        auto key = [](const Event& e) { return std::pair{e.position, e.prim_type}; };
+        std::vector<std::pair<float, std::uint32_t>> got_keys, expected_keys;
+        for (const Event& e : out) got_keys.push_back(key(e));
+        for (const Event& e : expected) expected_keys.push_back(key(e));
+        std::sort(got_keys.begin(), got_keys.end());
+        std::sort(expected_keys.begin(), expected_keys.end());
+        CHECK(got_keys == expected_keys);
+    }
+}
+
+TEST_CASE("a triangle clipped to a box keeps the bounds of its part inside the box") {
+    const Aabb box{{0, 0, 0}, {1, 1, 1}};
+    SUBCASE("inside: its own bounds") {
+        const Triangle tri{{0.1f, 0.2f, 0.3f}, {0.9f, 0.2f, 0.3f}, {0.5f, 0.8f, 0.7f}};
+        const auto b = kd::clipped_triangle_bounds(tri, box);
+        REQUIRE(b);
+        CHECK(b->lo == tri.bounds().lo);
+        CHECK(b->hi == tri.bounds().hi);
+    }
+    SUBCASE("outside although its bounding box overlaps: nothing") {
+        // The diagonal x + y = 2.5 misses the box while its bounds reach into it.
+        const Triangle tri{{2.5f, 0.0f, 0.5f}, {0.0f, 2.5f, 0.5f}, {2.5f, 2.5f, 0.5f}};
+        CHECK(tri.bounds().lo.x < 1.0f);
+        CHECK_FALSE(kd::clipped_triangle_bounds(tri, box));
+    }
+    SUBCASE("straddling a face: cut at the face, exactly") {
+        const Triangle tri{{0.5f, 0.5f, 0.5f}, {1.5f, 0.5f, 0.5f}, {1.5f, 0.75f, 0.5f}};
+        const auto b = kd::clipped_triangle_bounds(tri, box);
+        REQUIRE(b);
+        CHECK(b->lo.x == 0.5f);
+        CHECK(b->hi.x == 1.0f);
+        CHECK(b->hi.y == 0.625f);  // where the long edge leaves the box at x = 1
+    }
+    SUBCASE("touching a face from outside: the touching edge, flat") {
+        const Triangle tri{{1.0f, 0.2f, 0.2f}, {1.0f, 0.6f, 0.2f}, {2.0f, 0.4f, 0.4f}};
+        const auto b = kd::clipped_triangle_bounds(tri, box);
+        REQUIRE(b);
+        CHECK(b->lo.x == 1.0f);
+        CHECK(b->hi.x == 1.0f);
+    }
+}
+
+TEST_CASE("clipped bounds contain every point of the triangle that lies in the box") {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> coord(-1.0f, 2.0f), unit(0.0f, 1.0f);
+    const Aabb box{{0, 0, 0}, {1, 1, 1}};
+    int clipped_away = 0;
+    for (int t = 0; t < 300; ++t) {
+        const Triangle tri{{coord(rng), coord(rng), coord(rng)},
+                           {coord(rng), coord(rng), coord(rng)},
+                           {coord(rng), coord(rng), coord(rng)}};
+        const auto b = kd::clipped_triangle_bounds(tri, box);
+        if (b) {
+            CHECK(box.contains(*b));
+            CHECK(tri.bounds().contains(*b));
+        }
+        for (int s = 0; s < 300; ++s) {
+            float u = unit(rng), v = unit(rng);
+            if (u + v > 1.0f) u = 1.0f - u, v = 1.0f - v;
+            const Vec3f p = tri.a + (tri.b - tri.a) * u + (tri.c - tri.a) * v;
+            if (!box.contains(p)) continue;
+            REQUIRE(b);
+            // p itself carries float rounding, up to an ulp or two outside the exact triangle.
+            const Vec3f slack{1e-6f};
+            CHECK(Aabb{b->lo - slack, b->hi + slack}.contains(p));
+        }
+        clipped_away += !b;
+    }
+    CHECK(clipped_away > 0);  // the sample covers triangles that miss the box
+}
+
+namespace {
+
+/// The plane the sweep picks for triangles given as [lo, hi] intervals on the axis, in the cell
+/// [0, cell_hi] whose faces across the axis have half area 1 and sides scale by 1.
+std::pair<float, bool> sweep_pick(const std::vector<std::pair<float, float>>& intervals, float cell_hi) {
+    std::vector<Event> events;
+    for (std::uint32_t i = 0; i < intervals.size(); ++i) {
+        const auto [lo, hi] = intervals[i];
+        if (lo == hi) {
+            events.push_back(Event::make(lo, i, EventType::planar));
+        } else {
+            events.push_back(Event::make(hi, i, EventType::end));
+            events.push_back(Event::make(lo, i, EventType::start));
+        }
+    }
+    std::sort(events.begin(), events.end(), kd::event_before);
+    const kd::SweepSetup setup{std::int64_t(intervals.size()), 1.0, 1.0 + double(cell_hi), 1.0, 0.0f, cell_hi, 0.5};
+    const kd::SweepBest best = kd::sweep_events(events, setup);
+    REQUIRE(best.found());
+    return {events[best.tag >> 1].position, (best.tag & 1u) != 0};
+}
+
+}  // namespace
+
+TEST_CASE("the sweep picks the cheapest plane and sends planar triangles to the cheaper side") {
+    // Two triangles apart: the gap's two ends cost the same, the earlier wins.
+    CHECK(sweep_pick({{0, 1}, {3, 4}}, 4).first == 1.0f);
+    // A triangle in the plane x = 2 between two others: splitting there is cheapest; both sides
+    // cost the same for it, so it goes above (Wald and Havran's tie rule).
+    CHECK(sweep_pick({{0, 1}, {2, 2}, {3, 4}}, 4) == std::pair{2.0f, false});
+    // With a larger cell above, the planar triangle is cheaper below.
+    CHECK(sweep_pick({{0, 1}, {2, 2}, {3, 6}}, 6) == std::pair{2.0f, true});
+    // A plane on the cell's face with nothing beyond it makes no progress and is never picked.
+    CHECK(sweep_pick({{0, 3}}, 6).first == 3.0f);
+    CHECK(sweep_pick({{3, 6}}, 6).first == 3.0f);
+}
