@@ -49,7 +49,6 @@ double ms_since(std::chrono::steady_clock::time_point start) {
 AccelKind accel_kind_or_throw(const std::string& name) {
     const auto kind = parse_accel_kind(name);
     if (!kind) throw std::invalid_argument(fmt::format("--accel {}: unknown structure (brute, bvh, kdtree, octree)", name));
-    if (!is_built(*kind)) throw std::invalid_argument(fmt::format("--accel {}: not built yet", name));
     return *kind;
 }
 
