@@ -35,6 +35,7 @@
 #include "accel/kdtree/kd_node.h"
 #include "core/aabb.h"
 #include "core/intersect_triangle.h"
+#include "core/lanes.h"
 #include "core/mesh.h"
 #include "core/ray.h"
 #include "core/slab_test.h"
@@ -54,30 +55,37 @@ struct KdTreeView {
 namespace detail {
 
 inline constexpr float kKdSlack = 2.0f * rounding_gamma(3);
-inline float widened_up(float t) { return t + std::abs(t) * kKdSlack; }
-inline float widened_down(float t) { return t - std::abs(t) * kKdSlack; }
+// Written over float or a batch (Lanes<T>), so a packet lane widens exactly as the single ray.
+template <class T>
+T widened_up(T t) {
+    return t + Lanes<T>::abs(t) * T(kKdSlack);
+}
+template <class T>
+T widened_down(T t) {
+    return t - Lanes<T>::abs(t) * T(kKdSlack);
+}
 
 }  // namespace detail
 
+/// The walk below `start` for the ray's interval [t_min, t_max] in that cell, with `best` holding
+/// the closest hit so far (best.t is the limit: ray.tmax or a closer hit). Returns true when a
+/// hit was recorded in `best` (any-hit queries: at the first one). The whole traversal starts it
+/// at the root; packet traversals hand it the subtrees that only a few lanes still need, and a
+/// lane walked so from a cell visits what the whole traversal visits from there.
 template <KdQuery Query, TriangleTest Test, class Counters>
-Hit traverse_kdtree(const KdTreeView& tree, const Ray& ray, Counters& counters) {
+bool walk_kdtree(const KdTreeView& tree, const Ray& ray, const SlabRay& slab,
+                 const TriangleIntersector<Test>& intersector, std::uint32_t start, float t_min, float t_max,
+                 Hit& best, Counters& counters) {
     using detail::widened_down;
     using detail::widened_up;
-    Hit best;
-    const SlabRay slab(ray.origin, ray.dir);
-    float t_min, t_max;
-    if (tree.nodes.empty() || !clip_to_box(slab, tree.bounds.lo, tree.bounds.hi, ray.tmin, ray.tmax, t_min, t_max))
-        return best;
-    best.t = ray.tmax;
-    const TriangleIntersector<Test> intersector(ray);
-
     struct Pending {
         std::uint32_t node;
         float t_min, t_max;
     };
     Pending stack[kKdMaxDepth];
     int pending = 0;
-    std::uint32_t index = 0;
+    bool found = false;
+    std::uint32_t index = start;
     for (;;) {
         counters.visit_node();
         const KdNode node = tree.nodes[index];
@@ -108,21 +116,32 @@ Hit traverse_kdtree(const KdTreeView& tree, const Ray& ray, Counters& counters) 
             TriangleHit h;
             if (intersector.intersect(tree.triangles[ids[i]], best.t, h)) {
                 best = {ids[i], h.t, h.u, h.v};
-                if constexpr (Query == KdQuery::any_hit) return best;
+                found = true;
+                if constexpr (Query == KdQuery::any_hit) return true;
             }
         }
         // The next pending cell that may hold a closer hit.
         do {
-            if (pending == 0) {
-                if (!best.is_hit()) best.t = kInfinity;
-                return best;
-            }
+            if (pending == 0) return found;
             --pending;
         } while (stack[pending].t_min > widened_up(best.t));
         index = stack[pending].node;
         t_min = stack[pending].t_min;
         t_max = stack[pending].t_max;
     }
+}
+
+template <KdQuery Query, TriangleTest Test, class Counters>
+Hit traverse_kdtree(const KdTreeView& tree, const Ray& ray, Counters& counters) {
+    Hit best;
+    const SlabRay slab(ray.origin, ray.dir);
+    float t_min, t_max;
+    if (tree.nodes.empty() || !clip_to_box(slab, tree.bounds.lo, tree.bounds.hi, ray.tmin, ray.tmax, t_min, t_max))
+        return best;
+    best.t = ray.tmax;
+    const TriangleIntersector<Test> intersector(ray);
+    if (!walk_kdtree<Query>(tree, ray, slab, intersector, 0, t_min, t_max, best, counters)) best.t = kInfinity;
+    return best;
 }
 
 }  // namespace trident

@@ -2,16 +2,18 @@
 // The kd-tree: axis-aligned split planes chosen by the surface area heuristic over split-plane
 // events (the reference study, after pbrt), built in O(N log N) after Wald and Havran (2006), and
 // flattened into 8-byte nodes. Building: kd_build.h; options: kd_options.h; layout: kd_node.h;
-// traversal: kd_traversal.h.
+// traversal: kd_traversal.h (single rays), kd_packet.h (ray packets).
 #include <span>
 #include <vector>
 
 #include "accel/accel_stats.h"
 #include "accel/kdtree/kd_node.h"
 #include "accel/kdtree/kd_options.h"
+#include "accel/kdtree/kd_packet.h"
 #include "accel/kdtree/kd_traversal.h"
 #include "core/intersect_triangle.h"
 #include "core/mesh.h"
+#include "simd/packet.h"
 
 namespace trident {
 
@@ -36,6 +38,22 @@ public:
     bool occluded(const Ray& ray) const {
         NoCounters c;
         return occluded<TriangleTest::watertight>(ray, c);
+    }
+
+    /// Ray packets (kd_packet.h): per active lane with tmin <= tmax, the closest hit into `hits`
+    /// (constructed from `rays`; other lanes are left as they are) or whether anything is hit,
+    /// equal to intersect(ray) / occluded(ray) bit for bit. Subtrees that at most SingleRayLanes
+    /// lanes need are walked ray by ray; the default is the measured break-even of the width.
+    template <TriangleTest Test, class Arch, class Counters,
+              int SingleRayLanes = kd::single_ray_lanes(RayPacket<Arch>::width)>
+    void intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters) const {
+        kd::traverse_kdtree_packet<KdQuery::closest_hit, Test, SingleRayLanes>(view(), rays, hits, counters);
+    }
+    template <TriangleTest Test, class Arch, class Counters,
+              int SingleRayLanes = kd::single_ray_lanes(RayPacket<Arch>::width)>
+    typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters) const {
+        HitPacket<Arch> limits(rays);
+        return kd::traverse_kdtree_packet<KdQuery::any_hit, Test, SingleRayLanes>(view(), rays, limits, counters);
     }
 
     const AccelStats& stats() const { return stats_; }

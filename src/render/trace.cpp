@@ -47,7 +47,7 @@ concept PacketTraversable = requires(const Structure& s, const RayPacket<Arch>& 
 
 /// Primary rays of one tile as packets of the structure's closest-hit packet traversal.
 template <TriangleTest Test, class Arch, class Structure>
-void trace_tile_packets(const Structure& structure, const Camera& camera, const Tile& tile, std::vector<Hit>& out) {
+void trace_tile_packets(const Structure& structure, const Camera& camera, const Tile& tile, std::span<Hit> out) {
     constexpr std::size_t kLanes = RayPacket<Arch>::width;
     constexpr auto kBlock = packet_block(kLanes);
     std::array<Ray, kLanes> rays;
@@ -75,6 +75,14 @@ void trace_tile_packets(const Structure& structure, const Camera& camera, const 
 
 std::vector<Hit> trace_primary(const AnyAccel& accel, const Camera& camera, TriangleTest test, SimdWidth width) {
     std::vector<Hit> hits(std::size_t(camera.width()) * camera.height());
+    trace_primary(accel, camera, hits, test, width);
+    return hits;
+}
+
+void trace_primary(const AnyAccel& accel, const Camera& camera, std::span<Hit> hits, TriangleTest test,
+                   SimdWidth width) {
+    if (hits.size() != std::size_t(camera.width()) * camera.height())
+        throw std::invalid_argument("trace_primary: the hit buffer does not match the image size");
     with_triangle_test(test, [&](auto test_tag) {
         constexpr TriangleTest Test = decltype(test_tag)::value;
         accel.visit([&](const auto& structure) {
@@ -95,7 +103,18 @@ std::vector<Hit> trace_primary(const AnyAccel& accel, const Camera& camera, Tria
             });
         });
     });
-    return hits;
+}
+
+bool has_packet_traversal(const AnyAccel& accel, SimdWidth width) {
+    if (width == SimdWidth::scalar) return true;
+    if (!is_runnable(width)) return false;
+    return accel.visit([&](const auto& structure) {
+        using Structure = std::decay_t<decltype(structure)>;
+        return dispatch_width(width, [&]<SimdWidth W>() {
+            if constexpr (W == SimdWidth::scalar) return true;
+            else return PacketTraversable<Structure, ArchOf<W>>;
+        });
+    });
 }
 
 std::vector<TraversalCounters> count_primary(const AnyAccel& accel, const Camera& camera, TriangleTest test) {

@@ -21,7 +21,11 @@ std::vector<Hit> trace_primary(const AnyAccel& accel, const Camera& camera, Tria
 /// The same into a buffer of width x height hits the caller owns, so repeated timed traces
 /// (trident-bench) measure tracing, not allocating. Throws std::invalid_argument on a wrong size.
 void trace_primary(const AnyAccel& accel, const Camera& camera, std::span<Hit> hits,
-                   TriangleTest test = TriangleTest::watertight);
+                   TriangleTest test = TriangleTest::watertight, SimdWidth width = SimdWidth::scalar);
+/// Whether trace_primary can run this structure at this width here (scalar always; a packet width
+/// needs the CPU's instruction set and the structure's packet traversal), so the benchmark skips
+/// what trace_primary would refuse.
+bool has_packet_traversal(const AnyAccel& accel, SimdWidth width);
 
 /// The same rays traced with counters on: nodes visited and triangles tested per pixel.
 std::vector<TraversalCounters> count_primary(const AnyAccel& accel, const Camera& camera,

@@ -1,13 +1,18 @@
 #pragma once
 // What the kd-tree tests need beyond tests/support: the cells of a built tree, its split planes,
-// and scenes whose triangles lie in split planes.
+// scenes whose triangles lie in split planes, and the built-in scenes with their trees.
 #include <cstdint>
+#include <map>
 #include <random>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "accel/kdtree/kdtree.h"
 #include "core/aabb.h"
 #include "core/mesh.h"
+#include "core/scene.h"
+#include "scenes/builtin.h"
 
 namespace trident::testing {
 
@@ -71,6 +76,23 @@ inline Mesh grid_boxes(std::size_t count, std::uint32_t seed, int grid = 8) {
         }
     }
     return mesh;
+}
+
+/// A built-in scene and its kd-tree (default options), each made once per test run: several test
+/// cases trace the big ones, and building them dominates the run time.
+struct BuiltinKd {
+    Scene scene;
+    KdTree tree;
+};
+inline const BuiltinKd& builtin_kd(const std::string& name) {
+    static std::map<std::string, BuiltinKd> cache;
+    auto it = cache.find(name);
+    if (it == cache.end()) {
+        Scene scene = make_builtin_scene(name);
+        KdTree tree = KdTree::build(scene.mesh);
+        it = cache.emplace(name, BuiltinKd{std::move(scene), std::move(tree)}).first;
+    }
+    return it->second;
 }
 
 }  // namespace trident::testing

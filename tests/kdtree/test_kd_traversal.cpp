@@ -206,8 +206,7 @@ TEST_CASE("closest and any hits are right on every built-in scene") {
     for (const BuiltinSceneInfo& info : builtin_scenes()) {
         CAPTURE(info.name);
         if (info.triangles > kLargestScene) continue;
-        const Scene scene = make_builtin_scene(info.name);
-        const KdTree tree = KdTree::build(scene.mesh);
+        const auto& [scene, tree] = builtin_kd(info.name);
         // The double brute force costs rays x triangles: about a hundred rays on the biggest scene.
         const std::size_t ray_count = std::clamp<std::size_t>(30'000'000 / (info.triangles + 1), 64, 2000);
         std::vector<Ray> rays = camera_rays(scene.camera, ray_count, 71);

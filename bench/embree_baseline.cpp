@@ -1,0 +1,205 @@
+#include "bench/embree_baseline.h"
+
+#if TRIDENT_HAVE_EMBREE
+
+#include <fmt/format.h>
+#include <tbb/blocked_range2d.h>
+#include <tbb/parallel_for.h>
+
+#include <stdexcept>
+#include <string>
+
+#include "bench/statistics.h"
+
+namespace trident::bench {
+namespace {
+
+/// Pixels one packet call covers and the call itself, per width. Blocks are at most 4 pixels
+/// wide so neighbouring lanes stay close in the image (coherent rays, as the context states).
+template <int Width>
+struct Packet;
+template <>
+struct Packet<4> {
+    using RayHit = RTCRayHit4;
+    static constexpr std::uint32_t block_w = 2, block_h = 2;
+    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
+        rtcIntersect4(valid, s, c, r);
+    }
+};
+template <>
+struct Packet<8> {
+    using RayHit = RTCRayHit8;
+    static constexpr std::uint32_t block_w = 4, block_h = 2;
+    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
+        rtcIntersect8(valid, s, c, r);
+    }
+};
+template <>
+struct Packet<16> {
+    using RayHit = RTCRayHit16;
+    static constexpr std::uint32_t block_w = 4, block_h = 4;
+    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
+        rtcIntersect16(valid, s, c, r);
+    }
+};
+
+constexpr std::uint32_t kTilePixels = 16;  // blocks are handed out in tiles of about 16x16 pixels, as ours
+
+Hit to_hit(unsigned geom_id, unsigned prim_id, float t, float u, float v) {
+    if (geom_id == RTC_INVALID_GEOMETRY_ID) return Hit{};
+    return Hit{TriangleId(prim_id), t, u, v};
+}
+
+RTCIntersectContext coherent_context() {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    return context;
+}
+
+/// Calls per_block(bx, by) for every block_w x block_h block of the image, in parallel tiles.
+template <class PerBlock>
+void for_each_block(const Camera& camera, std::uint32_t block_w, std::uint32_t block_h, PerBlock&& per_block) {
+    const std::uint32_t blocks_x = (camera.width() + block_w - 1) / block_w;
+    const std::uint32_t blocks_y = (camera.height() + block_h - 1) / block_h;
+    const tbb::blocked_range2d<std::uint32_t> blocks(0, blocks_y, kTilePixels / block_h, 0, blocks_x,
+                                                     kTilePixels / block_w);
+    tbb::parallel_for(blocks, [&](const tbb::blocked_range2d<std::uint32_t>& tile) {
+        for (std::uint32_t by = tile.rows().begin(); by != tile.rows().end(); ++by)
+            for (std::uint32_t bx = tile.cols().begin(); bx != tile.cols().end(); ++bx) per_block(bx, by);
+    });
+}
+
+void trace_single(RTCScene scene, const Camera& camera, std::span<Hit> hits) {
+    for_each_block(camera, 1, 1, [&](std::uint32_t x, std::uint32_t y) {
+        RTCIntersectContext context = coherent_context();
+        const Ray ray = camera.primary_ray(x, y);
+        RTCRayHit rayhit{};
+        rayhit.ray.org_x = ray.origin.x, rayhit.ray.org_y = ray.origin.y, rayhit.ray.org_z = ray.origin.z;
+        rayhit.ray.dir_x = ray.dir.x, rayhit.ray.dir_y = ray.dir.y, rayhit.ray.dir_z = ray.dir.z;
+        rayhit.ray.tnear = ray.tmin;
+        rayhit.ray.tfar = ray.tmax;
+        rayhit.ray.mask = ~0u;
+        rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(scene, &context, &rayhit);
+        hits[std::size_t(y) * camera.width() + x] =
+            to_hit(rayhit.hit.geomID, rayhit.hit.primID, rayhit.ray.tfar, rayhit.hit.u, rayhit.hit.v);
+    });
+}
+
+template <int Width>
+void trace_packets(RTCScene scene, const Camera& camera, std::span<Hit> hits) {
+    using P = Packet<Width>;
+    for_each_block(camera, P::block_w, P::block_h, [&](std::uint32_t bx, std::uint32_t by) {
+        RTCIntersectContext context = coherent_context();
+        alignas(64) int valid[Width];
+        alignas(64) typename P::RayHit rayhit{};
+        for (int lane = 0; lane < Width; ++lane) {
+            const std::uint32_t x = bx * P::block_w + std::uint32_t(lane) % P::block_w;
+            const std::uint32_t y = by * P::block_h + std::uint32_t(lane) / P::block_w;
+            valid[lane] = x < camera.width() && y < camera.height() ? -1 : 0;
+            rayhit.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+            if (!valid[lane]) continue;
+            const Ray ray = camera.primary_ray(x, y);
+            rayhit.ray.org_x[lane] = ray.origin.x, rayhit.ray.org_y[lane] = ray.origin.y,
+            rayhit.ray.org_z[lane] = ray.origin.z;
+            rayhit.ray.dir_x[lane] = ray.dir.x, rayhit.ray.dir_y[lane] = ray.dir.y, rayhit.ray.dir_z[lane] = ray.dir.z;
+            rayhit.ray.tnear[lane] = ray.tmin;
+            rayhit.ray.tfar[lane] = ray.tmax;
+            rayhit.ray.mask[lane] = ~0u;
+        }
+        P::intersect(valid, scene, &context, &rayhit);
+        for (int lane = 0; lane < Width; ++lane) {
+            if (!valid[lane]) continue;
+            const std::uint32_t x = bx * P::block_w + std::uint32_t(lane) % P::block_w;
+            const std::uint32_t y = by * P::block_h + std::uint32_t(lane) / P::block_w;
+            hits[std::size_t(y) * camera.width() + x] =
+                to_hit(rayhit.hit.geomID[lane], rayhit.hit.primID[lane], rayhit.ray.tfar[lane], rayhit.hit.u[lane],
+                       rayhit.hit.v[lane]);
+        }
+    });
+}
+
+}  // namespace
+
+EmbreeDevice::EmbreeDevice(int threads) {
+    device_ = rtcNewDevice(fmt::format("threads={},verbose=0", threads).c_str());
+    if (!device_)
+        throw std::runtime_error(
+            fmt::format("embree: rtcNewDevice failed (error {})", int(rtcGetDeviceError(nullptr))));
+    rtcSetDeviceMemoryMonitorFunction(device_, &EmbreeDevice::monitor_memory, this);
+}
+
+EmbreeDevice::~EmbreeDevice() { rtcReleaseDevice(device_); }
+
+bool EmbreeDevice::monitor_memory(void* self, ssize_t bytes, bool) {
+    static_cast<EmbreeDevice*>(self)->live_bytes_ += std::int64_t(bytes);
+    return true;
+}
+
+void EmbreeDevice::throw_on_error(const char* what) const {
+    const RTCError error = rtcGetDeviceError(device_);
+    if (error != RTC_ERROR_NONE)
+        throw std::runtime_error(fmt::format("embree: {} failed (error {})", what, int(error)));
+}
+
+EmbreeScene::EmbreeScene(const EmbreeDevice& device, const Mesh& mesh) {
+    const std::int64_t bytes_before = device.live_bytes();
+    const auto start = std::chrono::steady_clock::now();
+    scene_ = rtcNewScene(device.handle());
+    device.throw_on_error("rtcNewScene");
+    try {
+        build(device, mesh);
+    } catch (...) {
+        rtcReleaseScene(scene_);
+        throw;
+    }
+    build_ms_ = ms_since(start);
+    bytes_ = std::size_t(std::max<std::int64_t>(0, device.live_bytes() - bytes_before));
+}
+
+void EmbreeScene::build(const EmbreeDevice& device, const Mesh& mesh) {
+    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+    RTCGeometry geometry = rtcNewGeometry(device.handle(), RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                 3 * sizeof(float), mesh.vertex_count()));
+    auto* indices = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), mesh.triangle_count()));
+    device.throw_on_error("allocating the geometry buffers");
+    for (std::size_t i = 0; i < mesh.vertex_count(); ++i) {
+        vertices[3 * i] = mesh.x[i];
+        vertices[3 * i + 1] = mesh.y[i];
+        vertices[3 * i + 2] = mesh.z[i];
+    }
+    for (std::size_t i = 0; i < mesh.triangle_count(); ++i) {
+        indices[3 * i] = mesh.triangles[i].v0;
+        indices[3 * i + 1] = mesh.triangles[i].v1;
+        indices[3 * i + 2] = mesh.triangles[i].v2;
+    }
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(scene_, geometry);  // the first geometry: geomID 0
+    rtcReleaseGeometry(geometry);
+    rtcCommitScene(scene_);
+    device.throw_on_error("building the scene");
+}
+
+EmbreeScene::~EmbreeScene() { rtcReleaseScene(scene_); }
+
+void EmbreeScene::trace(const Camera& camera, int packet_width, std::span<Hit> hits) const {
+    switch (packet_width) {
+        case 1:
+            return trace_single(scene_, camera, hits);
+        case 4:
+            return trace_packets<4>(scene_, camera, hits);
+        case 8:
+            return trace_packets<8>(scene_, camera, hits);
+        case 16:
+            return trace_packets<16>(scene_, camera, hits);
+    }
+    throw std::invalid_argument(fmt::format("Embree has no packet width {}", packet_width));
+}
+
+}  // namespace trident::bench
+
+#endif  // TRIDENT_HAVE_EMBREE

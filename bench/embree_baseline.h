@@ -1,0 +1,89 @@
+#pragma once
+// Embree 3 as a baseline and as an independent reference tracer, on the same rays as ours.
+// The mesh becomes one triangle geometry in file order, so Embree's primID is our triangle index;
+// rays carry our normalized directions, so tfar is t along them. Compiled only when CMake found
+// Embree (TRIDENT_HAVE_EMBREE); without it trident-bench runs everything else.
+#include <cstddef>
+#include <span>
+#include <string>
+
+#include "bench/traversal.h"
+#include "camera/camera.h"
+#include "core/mesh.h"
+#include "core/ray.h"
+
+#if TRIDENT_HAVE_EMBREE
+#include <embree3/rtcore.h>
+
+#include <atomic>
+#include <cstdint>
+#endif
+
+namespace trident::bench {
+
+#if TRIDENT_HAVE_EMBREE
+inline constexpr bool kHaveEmbree = true;
+#else
+inline constexpr bool kHaveEmbree = false;
+#endif
+
+/// "rtcIntersect1", "rtcIntersect4", ...: the Embree call of a packet width (1: one ray).
+inline std::string embree_call_name(int packet_width) { return "rtcIntersect" + std::to_string(packet_width); }
+
+/// The Embree row a traversal of ours is compared with: rtcIntersect1 for scalar, rtcIntersectN
+/// for simdN (one ray against one ray, packets against packets of the same width).
+inline std::string embree_counterpart(Traversal traversal) { return embree_call_name(rays_per_call(traversal)); }
+
+#if TRIDENT_HAVE_EMBREE
+
+/// How every Embree scene is built and traced, stated in every output beside its figures.
+inline constexpr const char* kEmbreeSettings =
+    "RTC_BUILD_QUALITY_HIGH, default scene flags, coherent intersect context";
+
+/// An Embree device with a fixed thread count ("threads=N") that counts the bytes it holds.
+class EmbreeDevice {
+public:
+    explicit EmbreeDevice(int threads);
+    ~EmbreeDevice();
+    EmbreeDevice(const EmbreeDevice&) = delete;
+    EmbreeDevice& operator=(const EmbreeDevice&) = delete;
+
+    RTCDevice handle() const { return device_; }
+    std::int64_t live_bytes() const { return live_bytes_.load(); }
+    /// Throws std::runtime_error naming what failed when Embree reported an error.
+    void throw_on_error(const char* what) const;
+
+private:
+    static bool monitor_memory(void* self, ssize_t bytes, bool post);
+    RTCDevice device_ = nullptr;
+    std::atomic<std::int64_t> live_bytes_{0};
+};
+
+/// One committed scene. build_ms spans the same work as our structures' build: from the mesh in
+/// memory to a structure ready to trace (copying into Embree's buffers included).
+class EmbreeScene {
+public:
+    EmbreeScene(const EmbreeDevice& device, const Mesh& mesh);
+    ~EmbreeScene();
+    EmbreeScene(const EmbreeScene&) = delete;
+    EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+    double build_ms() const { return build_ms_; }
+    /// What the device's memory monitor saw this scene allocate (geometry buffers and the BVH).
+    std::size_t bytes() const { return bytes_; }
+
+    /// The camera's primary rays, closest hit: rtcIntersect1 per pixel for packet_width 1, else
+    /// rtcIntersect4 / 8 / 16 over 2x2 / 4x2 / 4x4 pixel blocks, lanes past the image edge
+    /// switched off in the valid mask. Blocks are spread over the calling thread pool.
+    void trace(const Camera& camera, int packet_width, std::span<Hit> hits) const;
+
+private:
+    void build(const EmbreeDevice& device, const Mesh& mesh);  // fills and commits scene_
+    RTCScene scene_ = nullptr;
+    double build_ms_ = 0.0;
+    std::size_t bytes_ = 0;
+};
+
+#endif  // TRIDENT_HAVE_EMBREE
+
+}  // namespace trident::bench

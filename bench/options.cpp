@@ -1,0 +1,229 @@
+#include "bench/options.h"
+
+#include <fmt/format.h>
+#include <tbb/info.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <charconv>
+#include <stdexcept>
+
+#include "bench/embree_baseline.h"
+#include "bench/statistics.h"
+
+namespace trident::bench {
+namespace {
+
+/// The options as typed; resolve() checks them and turns them into BenchOptions.
+struct Arguments {
+    std::vector<std::string> scenes, only, accel, simd, threads, embree;
+    std::optional<std::filesystem::path> manifest, reference_hits, dump_hits, csv, json, markdown;
+    std::optional<std::string> sweep;
+    std::string reference = "auto";
+    long long width = 1920, height = 1080, repeats = kRecommendedRepeats;
+    bool quiet = false;
+};
+
+[[noreturn]] void refuse(const std::string& message) { throw std::invalid_argument(message); }
+
+std::optional<int> parse_int(std::string_view text) {
+    int value = 0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (error != std::errc{} || end != text.data() + text.size()) return std::nullopt;
+    return value;
+}
+
+template <class T>
+void push_unique(std::vector<T>& list, const T& value) {
+    if (std::find(list.begin(), list.end(), value) == list.end()) list.push_back(value);
+}
+
+std::string quoted_command_line(int argc, char** argv) {
+    std::string line;
+    for (int i = 0; i < argc; ++i) {
+        const std::string arg = argv[i];
+        if (i) line += ' ';
+        line += arg.find_first_of(" \t\"'") == std::string::npos ? arg : fmt::format("'{}'", arg);
+    }
+    return line;
+}
+
+std::vector<AccelKind> resolve_structures(const std::vector<std::string>& names) {
+    std::vector<AccelKind> kinds;
+    if (names.empty()) {  // every structure built, except the brute force, which must be asked for
+        for (AccelKind kind : built_accel_kinds())
+            if (kind != AccelKind::brute) kinds.push_back(kind);
+        return kinds;
+    }
+    for (const std::string& name : names) {
+        const auto kind = parse_accel_kind(name);
+        if (!kind) refuse(fmt::format("--accel {}: unknown structure (brute, bvh, kdtree, octree)", name));
+        if (!is_built(*kind)) refuse(fmt::format("--accel {}: not built yet", name));
+        push_unique(kinds, *kind);
+    }
+    return kinds;
+}
+
+std::vector<Traversal> resolve_traversals(const std::vector<std::string>& names) {
+    std::vector<Traversal> traversals;
+    for (const std::string& name : names) {
+        const auto traversal = parse_traversal(name);
+        if (!traversal) refuse(fmt::format("--simd {}: expected scalar, simd4, simd8 or simd16", name));
+        if (!is_runnable(*traversal))
+            refuse(fmt::format("--simd {}: not runnable here (needs {} kernels in this binary and on this CPU)", name,
+                               instruction_set(*traversal)));
+        push_unique(traversals, *traversal);
+    }
+    if (traversals.empty()) traversals.push_back(Traversal::scalar);
+    return traversals;
+}
+
+std::vector<int> resolve_threads(const std::vector<std::string>& texts) {
+    const int hardware = tbb::info::default_concurrency();
+    std::vector<int> threads;
+    for (const std::string& text : texts) {
+        const auto count = text == "all" ? std::optional<int>(hardware) : parse_int(text);
+        if (!count || *count < 1 || *count > hardware)
+            refuse(
+                fmt::format("--threads {}: each count must lie in 1..{} (this machine's hardware threads) or be 'all'",
+                            text, hardware));
+        push_unique(threads, *count);
+    }
+    if (threads.empty()) threads.push_back(hardware);
+    return threads;
+}
+
+std::vector<int> resolve_embree(const std::vector<std::string>& texts, bool given) {
+    std::vector<int> widths;
+    if (!given) {
+        if (kHaveEmbree) widths.assign(std::begin(kEmbreePacketWidths), std::end(kEmbreePacketWidths));
+        return widths;
+    }
+    if (texts.size() == 1 && texts.front() == "none") return widths;
+    if (!kHaveEmbree) refuse("--embree: this binary was built without Embree 3 (not found at configure time)");
+    for (const std::string& text : texts) {
+        const auto width = parse_int(text);
+        if (!width || std::find(std::begin(kEmbreePacketWidths), std::end(kEmbreePacketWidths), *width) ==
+                          std::end(kEmbreePacketWidths))
+            refuse(fmt::format("--embree {}: expected 1, 4, 8, 16 (rtcIntersect1/4/8/16) or none", text));
+        push_unique(widths, *width);
+    }
+    return widths;
+}
+
+ReferenceChoice resolve_reference(const Arguments& args) {
+    ReferenceChoice choice;
+    if (args.reference_hits) {
+        if (args.reference != "auto")
+            refuse(fmt::format("--reference {} and --reference-hits: give one of them", args.reference));
+        choice.source = ReferenceChoice::Source::file;
+        choice.file = *args.reference_hits;
+        if (!std::filesystem::exists(choice.file))
+            refuse(fmt::format("--reference-hits {}: no such file or folder", choice.file.string()));
+        return choice;
+    }
+    if (args.reference == "auto") return choice;
+    if (args.reference == "self") {
+        choice.source = ReferenceChoice::Source::self;
+        return choice;
+    }
+    if (args.reference == "embree") {
+        if (!kHaveEmbree) refuse("--reference embree: this binary was built without Embree 3");
+        choice.source = ReferenceChoice::Source::embree;
+        return choice;
+    }
+    const auto kind = parse_accel_kind(args.reference);
+    if (!kind)
+        refuse(
+            fmt::format("--reference {}: expected auto, embree, self, brute, bvh, kdtree or octree", args.reference));
+    if (!is_built(*kind)) refuse(fmt::format("--reference {}: not built yet", args.reference));
+    choice.source = ReferenceChoice::Source::structure;
+    choice.structure = *kind;
+    return choice;
+}
+
+BenchOptions resolve(const Arguments& args, const CLI::App& app) {
+    BenchOptions options;
+    if (args.width < 1 || args.height < 1 || args.width > kMaxImageSide || args.height > kMaxImageSide)
+        refuse(fmt::format("--width/--height {}x{}: each must lie in 1..{}", args.width, args.height, kMaxImageSide));
+    options.width = std::uint32_t(args.width);
+    options.height = std::uint32_t(args.height);
+    if (args.repeats < 1) refuse(fmt::format("--repeats {}: at least 1 (BENCHMARK.md asks for 5)", args.repeats));
+    options.repeats = int(args.repeats);
+
+    if (args.sweep) {
+        if (!args.accel.empty()) refuse("--sweep measures only its own structure: leave out --accel");
+        options.sweep = &sweep_or_throw(*args.sweep);
+        options.structures = {options.sweep->structure};
+    } else {
+        options.structures = resolve_structures(args.accel);
+    }
+    options.traversals = resolve_traversals(args.simd);
+    options.threads = resolve_threads(args.threads);
+    options.embree_packet_widths = resolve_embree(args.embree, app.count("--embree") > 0);
+    options.reference = resolve_reference(args);
+
+    options.scene_specs = args.scenes;
+    options.manifest = args.manifest;
+    options.only = args.only;
+    options.dump_hits = args.dump_hits;
+    options.csv = args.csv;
+    options.json = args.json;
+    options.markdown = args.markdown;
+    options.quiet = args.quiet;
+    return options;
+}
+
+void add_options(CLI::App& app, Arguments& args) {
+    app.add_option("--scenes", args.manifest, "scene manifest (BENCHMARK.md's scenes.json): run its scenes");
+    app.add_option("--only", args.only, "names of the scenes to run (built-in or manifest), comma separated")
+        ->delimiter(',');
+    app.add_option("--scene", args.scenes,
+                   "a built-in scene name or an .obj file (camera framed automatically); repeatable");
+    app.add_option("--accel", args.accel,
+                   "structures, comma separated: bvh,kdtree,octree,brute (default: all built but brute)")
+        ->delimiter(',');
+    app.add_option("--simd", args.simd,
+                   "traversals, comma separated: scalar,simd4,simd8,simd16 or auto (default scalar)")
+        ->delimiter(',');
+    app.add_option("--threads", args.threads,
+                   "thread counts, comma separated, or 'all' (default: all hardware threads)")
+        ->delimiter(',');
+    app.add_option("--width", args.width, "image width in pixels (default 1920)");
+    app.add_option("--height", args.height, "image height in pixels (default 1080)");
+    app.add_option("--repeats", args.repeats, "timed runs after one warm-up; the median is reported (default 5)");
+    app.add_option("--reference", args.reference, "error reference: auto, embree, self, brute, bvh, kdtree, octree");
+    app.add_option("--reference-hits", args.reference_hits,
+                   "another tracer's hit buffer, or a folder of SCENE.hits files");
+    app.add_option("--dump-hits", args.dump_hits,
+                   "folder to write our hit buffers to (SCENE.STRUCTURE.TRAVERSAL.hits)");
+    app.add_option("--embree", args.embree, "Embree rows, comma separated: 1,4,8,16 (rtcIntersect1/4/8/16) or none")
+        ->delimiter(',');
+    app.add_option("--sweep", args.sweep,
+                   "sweep one build parameter: octree-depth, bvh-buckets, bvh-cost, kd-cost, kd-empty-bonus");
+    app.add_option("--csv", args.csv, "write every configuration as CSV");
+    app.add_option("--json", args.json, "write machine info and every configuration as JSON (bench/plot.py reads it)");
+    app.add_option("--markdown", args.markdown, "write the tables as Markdown (for bench/RESULTS.md)");
+    app.add_flag("--quiet", args.quiet, "no progress on stderr");
+}
+
+}  // namespace
+
+std::optional<BenchOptions> parse_bench_options(int argc, char** argv) {
+    CLI::App app{"trident-bench: build and trace BVH, KD-tree and Octree side by side (BENCHMARK.md)"};
+    Arguments args;
+    add_options(app, args);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        app.exit(e);
+        return std::nullopt;
+    } catch (const CLI::ParseError& e) {
+        refuse(e.what());
+    }
+    BenchOptions options = resolve(args, app);
+    options.command_line = quoted_command_line(argc, argv);
+    return options;
+}
+
+}  // namespace trident::bench

@@ -1,0 +1,57 @@
+#pragma once
+// trident-bench's command line, parsed and checked: every bad value is refused here with one line
+// naming the option, before anything is loaded or built.
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "accel/any_accel.h"
+#include "bench/sweep.h"
+#include "bench/traversal.h"
+
+namespace trident::bench {
+
+inline constexpr std::uint32_t kMaxImageSide = 16384;
+/// The brute force is refused above this many triangles: W x H x N triangle tests would take hours.
+inline constexpr std::size_t kBruteMaxTriangles = 100000;
+/// Embree's ray-packet calls: rtcIntersect1 (one ray), rtcIntersect4 / 8 / 16.
+inline constexpr int kEmbreePacketWidths[] = {1, 4, 8, 16};
+
+/// What the error columns compare each configuration with.
+struct ReferenceChoice {
+    enum class Source {
+        automatic,  // Embree when built, else the BVH when built, else the brute force
+        embree,
+        structure,  // one of ours, traced once per scene
+        self,       // each configuration with its own trace: the error must be exactly zero
+        file,       // a hit buffer from another tracer, or a folder of SCENE.hits files
+    };
+    Source source = Source::automatic;
+    AccelKind structure = AccelKind::bvh;
+    std::filesystem::path file;
+};
+
+struct BenchOptions {
+    std::vector<std::string> scene_specs;           // --scene: built-in names or .obj paths
+    std::optional<std::filesystem::path> manifest;  // --scenes
+    std::vector<std::string> only;                  // --only: names to keep
+    std::vector<AccelKind> structures;
+    std::vector<Traversal> traversals;
+    std::vector<int> threads;
+    std::vector<int> embree_packet_widths;  // empty: no Embree rows
+    std::uint32_t width = 1920, height = 1080;
+    int repeats = 5;
+    ReferenceChoice reference;
+    std::optional<std::filesystem::path> dump_hits, csv, json, markdown;
+    const SweepSpec* sweep = nullptr;
+    bool quiet = false;
+    std::string command_line;
+};
+
+/// Empty when --help was asked for (and printed). Throws std::invalid_argument with one line
+/// naming the option on any bad value.
+std::optional<BenchOptions> parse_bench_options(int argc, char** argv);
+
+}  // namespace trident::bench

@@ -1,0 +1,270 @@
+#include "bench/runner.h"
+
+#include <fmt/format.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <optional>
+#include <span>
+
+#include "accel/any_accel.h"
+#include "bench/embree_baseline.h"
+#include "bench/progress.h"
+#include "bench/reference.h"
+#include "bench/scene_selection.h"
+#include "bench/statistics.h"
+#include "camera/camera.h"
+#include "render/hit_buffer.h"
+#include "render/trace.h"
+#include "scene/scene_source.h"
+
+namespace trident::bench {
+namespace {
+
+/// One structure with the options it is built with: the defaults, or one value of a sweep.
+struct StructureConfig {
+    AccelKind kind;
+    AccelOptions options;
+    std::optional<double> sweep_value;
+};
+
+std::vector<StructureConfig> structure_configs(const BenchOptions& options) {
+    std::vector<StructureConfig> configs;
+    if (options.sweep) {
+        for (double value : options.sweep->values) {
+            StructureConfig config{options.sweep->structure, {}, value};
+            options.sweep->set(config.options, value);
+            configs.push_back(config);
+        }
+        return configs;
+    }
+    for (AccelKind kind : options.structures) configs.push_back({kind, {}, std::nullopt});
+    return configs;
+}
+
+bool runs_embree(const BenchOptions& options) { return !options.sweep && !options.embree_packet_widths.empty(); }
+
+/// Our Mrays/s over Embree's on the same scene, rays and thread count; scalar rows compare with
+/// rtcIntersect1, simdN rows with rtcIntersectN.
+void fill_ratios_to_embree(std::span<BenchRow> rows) {
+    for (BenchRow& row : rows) {
+        if (row.is_embree()) continue;
+        const auto traversal = parse_traversal(row.traversal);
+        if (!traversal) continue;
+        const std::string counterpart = embree_counterpart(*traversal);
+        for (const BenchRow& embree : rows)
+            if (embree.is_embree() && embree.threads == row.threads && embree.traversal == counterpart &&
+                embree.mrays_per_s() > 0)
+                row.ratio_to_embree = row.mrays_per_s() / embree.mrays_per_s();
+    }
+}
+
+class BenchmarkRun {
+public:
+    explicit BenchmarkRun(const BenchOptions& options)
+        : options_(options),
+          configs_(structure_configs(options)),
+          scenes_(select_scenes(options)),
+          progress_(scenes_.size() * options.threads.size() *
+                        ((runs_embree(options) ? options.embree_packet_widths.size() : 0) +
+                         configs_.size() * options.traversals.size()),
+                    options.quiet) {}
+
+    BenchReport run() {
+        start_report();
+        for (const SceneChoice& choice : scenes_) run_scene(choice);
+        if (configs_.empty())
+            report_.notes.push_back("no structure but the brute force is built yet: pass --accel brute to measure it");
+        return std::move(report_);
+    }
+
+private:
+    void start_report() {
+        report_.machine = describe_machine();
+        report_.command_line = options_.command_line;
+        report_.width = options_.width;
+        report_.height = options_.height;
+        report_.repeats = options_.repeats;
+        report_.threads = options_.threads;
+        report_.triangle_test = to_string(TriangleTest::watertight);
+        report_.reference = describe_reference(options_.reference);
+#if TRIDENT_HAVE_EMBREE
+        if (runs_embree(options_)) report_.embree_settings = kEmbreeSettings;
+#endif
+        if (options_.sweep) {
+            report_.sweep_name = options_.sweep->name;
+            report_.sweep_parameter = options_.sweep->parameter;
+        }
+        if (options_.dump_hits) std::filesystem::create_directories(*options_.dump_hits);
+    }
+
+    void run_scene(const SceneChoice& choice) {
+        progress_.show(fmt::format("{}: loading", choice.spec));
+        const LoadedScene loaded = load_scene(choice.spec, choice.manifest);
+        const Camera camera(loaded.scene.camera, options_.width, options_.height);
+        progress_.show(fmt::format("{}: tracing the reference", loaded.scene.name));
+        const ReferenceTrace reference = make_reference(options_.reference, loaded.scene, camera);
+        if (reference.description != report_.reference)
+            report_.notes.push_back(fmt::format("{}: reference {}", loaded.scene.name, reference.description));
+        hits_.assign(std::size_t(camera.width()) * camera.height(), Hit{});
+
+        const std::size_t first_row = report_.rows.size();
+        for (int threads : options_.threads) {
+            const tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+            const SceneRun run{loaded, camera, reference, threads};
+            if (runs_embree(options_)) run_embree(run);
+            for (const StructureConfig& config : configs_) run_structure(run, config);
+        }
+        fill_ratios_to_embree(std::span(report_.rows).subspan(first_row));
+    }
+
+    struct SceneRun {
+        const LoadedScene& loaded;
+        const Camera& camera;
+        const ReferenceTrace& reference;
+        int threads;
+    };
+
+    BenchRow start_row(const SceneRun& run, std::string structure, std::string traversal) const {
+        BenchRow row;
+        row.scene = run.loaded.scene.name;
+        row.scene_source = run.loaded.source;
+        row.triangles = run.loaded.scene.mesh.triangle_count();
+        row.load_ms = run.loaded.load_ms;
+        row.structure = std::move(structure);
+        row.traversal = std::move(traversal);
+        row.threads = run.threads;
+        row.width = options_.width;
+        row.height = options_.height;
+        row.repeats = options_.repeats;
+        row.reference = run.reference.description;
+        return row;
+    }
+
+    std::string run_label(int run) const {
+        return run < kWarmupRuns ? std::string("warm-up")
+                                 : fmt::format("{}/{}", run - kWarmupRuns + 1, options_.repeats);
+    }
+
+    template <class TraceOnce>
+    Summary time_renders(const std::string& what, TraceOnce&& trace_once) {
+        return measure_repeated(options_.repeats, [&](int run) {
+            progress_.show(fmt::format("{}: render {}", what, run_label(run)));
+            const auto start = std::chrono::steady_clock::now();
+            trace_once();
+            return ms_since(start);
+        });
+    }
+
+    /// The error against the reference, the hit buffer dump, and the row into the report.
+    void finish_row(const SceneRun& run, BenchRow row, const std::string& dump_name) {
+        const HitBuffer hits = make_hit_buffer(run.camera.width(), run.camera.height(), hits_);
+        row.error = error_against(run.reference, hits);
+        if (options_.dump_hits && run.threads == options_.threads.front())
+            write_hit_buffer(*options_.dump_hits / fmt::format("{}.{}.hits", row.scene, dump_name), hits);
+        report_.rows.push_back(std::move(row));
+        progress_.configuration_done();
+    }
+
+    void run_embree([[maybe_unused]] const SceneRun& run) {
+#if TRIDENT_HAVE_EMBREE
+        const std::string what = fmt::format("{}: embree, {} threads", run.loaded.scene.name, run.threads);
+        const EmbreeDevice device(run.threads);
+        std::optional<EmbreeScene> scene;
+        const Summary build = measure_repeated(options_.repeats, [&](int i) {
+            progress_.show(fmt::format("{}: build {}", what, run_label(i)));
+            scene.reset();
+            scene.emplace(device, run.loaded.scene.mesh);
+            return scene->build_ms();
+        });
+        for (int width : options_.embree_packet_widths) {
+            BenchRow row = start_row(run, kEmbreeStructure, embree_call_name(width));
+            row.build_ms = build;
+            row.render_ms = time_renders(fmt::format("{} {}", what, row.traversal),
+                                         [&] { scene->trace(run.camera, width, hits_); });
+            row.bytes = scene->bytes();
+            row.note = kEmbreeSettings;
+            finish_row(run, std::move(row), fmt::format("embree.{}", embree_call_name(width)));
+        }
+#endif
+    }
+
+    void run_structure(const SceneRun& run, const StructureConfig& config) {
+        const std::string& scene_name = run.loaded.scene.name;
+        if (config.kind == AccelKind::brute && run.loaded.scene.mesh.triangle_count() > kBruteMaxTriangles) {
+            if (run.threads == options_.threads.front())
+                report_.notes.push_back(fmt::format(
+                    "brute refused on {}: {} triangles is over {} (W x H x N triangle tests would take hours)",
+                    scene_name, run.loaded.scene.mesh.triangle_count(), kBruteMaxTriangles));
+            for (std::size_t i = 0; i < options_.traversals.size(); ++i) progress_.configuration_done();
+            return;
+        }
+        std::string label = to_string(config.kind);
+        if (config.sweep_value) label += fmt::format(".{}={:g}", options_.sweep->name, *config.sweep_value);
+        const std::string what = fmt::format("{}: {}, {} threads", scene_name, label, run.threads);
+
+        std::optional<AnyAccel> accel;
+        const Summary build = measure_repeated(options_.repeats, [&](int i) {
+            progress_.show(fmt::format("{}: build {}", what, run_label(i)));
+            accel.reset();  // free the previous build first: one structure in memory at a time
+            accel.emplace(AnyAccel::build(config.kind, run.loaded.scene.mesh, config.options));
+            return accel->stats().build_ms;
+        });
+        const AccelStats& stats = accel->stats();
+
+        for (Traversal traversal : options_.traversals) {
+            if (!has_packet_traversal(*accel, simd_width(traversal))) {
+                skip_traversal(run, config.kind, traversal);
+                continue;
+            }
+            BenchRow row = start_row(run, to_string(config.kind), to_string(traversal));
+            row.build_ms = build;
+            row.render_ms = time_renders(fmt::format("{} {}", what, row.traversal), [&] {
+                trace_primary(*accel, run.camera, hits_, TriangleTest::watertight, simd_width(traversal));
+            });
+            row.nodes = stats.nodes;
+            row.leaves = stats.leaves;
+            row.max_depth = stats.max_depth;
+            row.sah_cost = stats.sah_cost;
+            row.bytes = stats.bytes;
+            // count_primary traces single rays: packet rows leave the per-ray counts empty.
+            if (traversal == Traversal::scalar) {
+                progress_.show(fmt::format("{} {}: counting", what, row.traversal));
+                TraversalCounters total;
+                for (const TraversalCounters& counters : count_primary(*accel, run.camera)) total += counters;
+                row.nodes_per_ray = double(total.nodes_visited) / row.rays();
+                row.triangles_per_ray = double(total.triangles_tested) / row.rays();
+            }
+            if (config.sweep_value) {
+                row.sweep_parameter = options_.sweep->parameter;
+                row.sweep_value = config.sweep_value;
+            }
+            finish_row(run, std::move(row), fmt::format("{}.{}", label, to_string(traversal)));
+        }
+    }
+
+    /// A structure without a packet traversal of that width yet: named once in the notes.
+    void skip_traversal(const SceneRun& run, AccelKind kind, Traversal traversal) {
+        const std::string note = fmt::format("{} {}: no packet traversal of that width yet, not measured",
+                                             to_string(kind), to_string(traversal));
+        if (run.threads == options_.threads.front() &&
+            std::find(report_.notes.begin(), report_.notes.end(), note) == report_.notes.end())
+            report_.notes.push_back(note);
+        progress_.configuration_done();
+    }
+
+    const BenchOptions& options_;
+    std::vector<StructureConfig> configs_;
+    std::vector<SceneChoice> scenes_;
+    Progress progress_;
+    BenchReport report_;
+    std::vector<Hit> hits_;  // one image of hits, reused by every trace
+};
+
+}  // namespace
+
+BenchReport run_benchmark(const BenchOptions& options) { return BenchmarkRun(options).run(); }
+
+}  // namespace trident::bench

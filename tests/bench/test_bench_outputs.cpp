@@ -1,0 +1,272 @@
+// trident-bench end to end on tiny runs: every output format parses and carries every column,
+// a structure compared with itself has exactly zero error, Embree agrees with our brute force.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "bench/traversal.h"
+#include "bench_process.h"
+#include "render/hit_buffer.h"
+#include "scenes/builtin.h"
+
+namespace {
+
+using trident::testing::BenchRun;
+using trident::testing::run_bench;
+using trident::testing::scratch_dir;
+namespace fs = std::filesystem;
+
+// The long-form columns every CSV header and JSON row must carry (the outputs' contract).
+const std::vector<std::string> kColumns = {"scene",
+                                           "scene_source",
+                                           "triangles",
+                                           "load_ms",
+                                           "structure",
+                                           "traversal",
+                                           "threads",
+                                           "width",
+                                           "height",
+                                           "repeats",
+                                           "build_ms",
+                                           "build_ms_min",
+                                           "build_ms_max",
+                                           "render_ms",
+                                           "render_ms_min",
+                                           "render_ms_max",
+                                           "mrays_per_s",
+                                           "mrays_per_s_min",
+                                           "mrays_per_s_max",
+                                           "nodes",
+                                           "leaves",
+                                           "max_depth",
+                                           "sah_cost",
+                                           "bytes",
+                                           "bytes_per_triangle",
+                                           "nodes_per_ray",
+                                           "triangles_per_ray",
+                                           "reference",
+                                           "hit_miss_share",
+                                           "triangle_share",
+                                           "max_relative_t_difference",
+                                           "ratio_to_embree",
+                                           "sweep_parameter",
+                                           "sweep_value",
+                                           "note"};
+
+// Tiny runs: a 32x18 image of the 6k-triangle teapot, one timed repeat.
+const std::string kTiny = "--only teapot --width 32 --height 18 --repeats 1 --quiet ";
+
+std::size_t teapot_triangles() {
+    for (const auto& info : trident::builtin_scenes())
+        if (info.name == "teapot") return info.triangles;
+    FAIL("no built-in teapot");
+    return 0;
+}
+
+struct Outputs {
+    BenchRun run;
+    nlohmann::json json;
+    std::string csv, markdown;
+};
+
+/// One run writing every format, shared by the checks below.
+const Outputs& brute_run_with_every_output() {
+    static const Outputs outputs = [] {
+        const fs::path dir = scratch_dir() / "outputs";
+        fs::create_directories(dir);
+        Outputs o;
+        o.run = run_bench(kTiny + "--accel brute --threads 1,2 --json " + (dir / "r.json").string() + " --csv " +
+                          (dir / "r.csv").string() + " --markdown " + (dir / "r.md").string());
+        if (o.run.exit_code == 0) {
+            o.json = nlohmann::json::parse(trident::testing::read_text(dir / "r.json"));
+            o.csv = trident::testing::read_text(dir / "r.csv");
+            o.markdown = trident::testing::read_text(dir / "r.md");
+        }
+        return o;
+    }();
+    return outputs;
+}
+
+std::vector<nlohmann::json> rows_of(const nlohmann::json& json, const std::string& structure) {
+    std::vector<nlohmann::json> rows;
+    for (const auto& row : json.at("rows"))
+        if (row.at("structure") == structure) rows.push_back(row);
+    return rows;
+}
+
+void check_zero_error(const nlohmann::json& json) {
+    REQUIRE_FALSE(json.at("rows").empty());
+    for (const auto& row : json.at("rows")) {
+        CAPTURE(row.dump());
+        REQUIRE(row.at("hit_miss_share").is_number());
+        CHECK(row.at("hit_miss_share").get<double>() == 0.0);
+        CHECK(row.at("triangle_share").get<double>() == 0.0);
+        CHECK(row.at("max_relative_t_difference").get<double>() == 0.0);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("a run writes JSON with machine info and one row per configuration carrying every column") {
+    const Outputs& o = brute_run_with_every_output();
+    INFO(o.run.err);
+    REQUIRE(o.run.exit_code == 0);
+    CHECK(o.run.err.empty());  // --quiet, and stderr is not a terminal anyway
+    const nlohmann::json& json = o.json;
+    CHECK_FALSE(json.at("machine").at("cpu").get<std::string>().empty());
+    CHECK(json.at("machine").at("hardware_threads").get<int>() >= 1);
+    CHECK_FALSE(json.at("date").get<std::string>().empty());
+    CHECK(json.at("command_line").get<std::string>().find("--accel brute") != std::string::npos);
+    CHECK_FALSE(json.at("reference").get<std::string>().empty());
+    CHECK(json.at("threads") == nlohmann::json::array({1, 2}));
+    CHECK(json.at("repeats") == 1);
+    CHECK(json.at("repeats_below_recommended") == true);
+
+    const auto brute = rows_of(json, "brute");
+    REQUIRE(brute.size() == 2);  // one per thread count
+    CHECK(brute[0].at("threads") == 1);
+    CHECK(brute[1].at("threads") == 2);
+    for (const auto& row : json.at("rows")) {
+        CAPTURE(row.dump());
+        for (const std::string& column : kColumns) CHECK_MESSAGE(row.contains(column), column);
+        CHECK(row.at("build_ms_min").get<double>() <= row.at("build_ms").get<double>());
+        CHECK(row.at("build_ms").get<double>() <= row.at("build_ms_max").get<double>());
+        CHECK(row.at("render_ms_min").get<double>() <= row.at("render_ms_max").get<double>());
+        CHECK(row.at("render_ms_samples").size() == 1);
+        CHECK(row.at("width") == 32);
+        CHECK(row.at("height") == 18);
+        CHECK(row.at("mrays_per_s").get<double>() ==
+              doctest::Approx(32.0 * 18.0 / row.at("render_ms").get<double>() / 1000.0));
+        CHECK(row.at("reference") == json.at("reference"));
+    }
+    for (const auto& row : brute) {
+        CHECK(row.at("scene") == "teapot");
+        CHECK(row.at("triangles") == teapot_triangles());
+        CHECK(row.at("traversal") == "scalar");
+        CHECK(row.at("nodes").is_number());
+        CHECK(row.at("bytes").get<double>() > 0);
+        CHECK(row.at("triangles_per_ray").get<double>() > 0);
+    }
+}
+
+TEST_CASE("the CSV has the column header and as many fields on every row") {
+    const Outputs& o = brute_run_with_every_output();
+    REQUIRE(o.run.exit_code == 0);
+    const auto csv = trident::testing::parse_csv(o.csv);
+    REQUIRE(csv.size() == 1 + o.json.at("rows").size());
+    CHECK(csv.front() == kColumns);
+    for (const auto& row : csv) CHECK(row.size() == kColumns.size());
+}
+
+TEST_CASE("the console and Markdown carry the Table 2 layout, the configurations, the CPU and the threads") {
+    const Outputs& o = brute_run_with_every_output();
+    REQUIRE(o.run.exit_code == 0);
+    const std::string cpu = o.json.at("machine").at("cpu");
+    for (const std::string* text : {&o.markdown, &o.run.out}) {
+        CHECK(text->find(cpu) != std::string::npos);
+        CHECK(text->find("threads measured: 1, 2") != std::string::npos);
+        CHECK(text->find("fewer than the 5 BENCHMARK.md asks for") != std::string::npos);
+        CHECK(text->find(o.json.at("reference").get<std::string>()) != std::string::npos);
+    }
+    CHECK(o.markdown.find("| scene | triangles | build BVH | build KD | build Octree |") != std::string::npos);
+    CHECK(o.markdown.find("| scene | structure | traversal | threads |") != std::string::npos);
+    CHECK(o.run.out.find("Table 2") != std::string::npos);
+    CHECK(o.run.out.find("Every configuration") != std::string::npos);
+}
+
+TEST_CASE("Embree rows trace the same rays and agree with our brute force") {
+    const Outputs& o = brute_run_with_every_output();
+    REQUIRE(o.run.exit_code == 0);
+    if (o.json.at("machine").at("embree_version").is_null()) {
+        MESSAGE("built without Embree: no baseline rows to check");
+        CHECK(rows_of(o.json, "embree").empty());
+        return;
+    }
+    CHECK(o.json.at("reference").get<std::string>().find("embree rtcIntersect1") != std::string::npos);
+    const auto embree = rows_of(o.json, "embree");
+    REQUIRE(embree.size() == 8);  // rtcIntersect1/4/8/16 at 1 and 2 threads
+    for (const auto& row : embree) {
+        CAPTURE(row.dump());
+        CHECK(row.at("note").get<std::string>().find("RTC_BUILD_QUALITY_HIGH") != std::string::npos);
+        CHECK(row.at("bytes").get<double>() > 0);
+        CHECK(row.at("nodes").is_null());
+        if (row.at("traversal") == "rtcIntersect1") CHECK(row.at("hit_miss_share").get<double>() == 0.0);
+        CHECK(row.at("hit_miss_share").get<double>() < 0.01);
+        CHECK(row.at("triangle_share").get<double>() < 0.01);
+    }
+    for (const auto& row : rows_of(o.json, "brute")) {
+        CAPTURE(row.dump());
+        // An independent tracer on the same rays: triangle indices map one to one.
+        CHECK(row.at("hit_miss_share").get<double>() < 0.01);
+        CHECK(row.at("triangle_share").get<double>() < 0.01);
+        CHECK(row.at("max_relative_t_difference").get<double>() < 1e-3);
+        CHECK(row.at("ratio_to_embree").get<double>() > 0.0);
+    }
+    CHECK(o.run.out.find("Ours / Embree") != std::string::npos);
+}
+
+TEST_CASE("a structure compared with itself has exactly zero error: --reference self and its own hit buffer") {
+    const fs::path dir = scratch_dir() / "self";
+    fs::create_directories(dir);
+    const std::string run_args = kTiny + "--accel brute --embree none --threads 1 ";
+
+    const BenchRun self = run_bench(run_args + "--reference self --dump-hits " + (dir / "hits").string() + " --json " +
+                                    (dir / "self.json").string());
+    INFO(self.err);
+    REQUIRE(self.exit_code == 0);
+    const auto self_json = nlohmann::json::parse(trident::testing::read_text(dir / "self.json"));
+    CHECK(self_json.at("reference").get<std::string>().find("self") != std::string::npos);
+    check_zero_error(self_json);
+
+    const fs::path dumped = dir / "hits" / "teapot.brute.scalar.hits";
+    const trident::HitBuffer hits = trident::read_hit_buffer(dumped);
+    CHECK(hits.width == 32);
+    CHECK(hits.height == 18);
+    CHECK(std::count_if(hits.triangle.begin(), hits.triangle.end(), [](int t) { return t >= 0; }) > 0);
+
+    const BenchRun file =
+        run_bench(run_args + "--reference-hits " + dumped.string() + " --json " + (dir / "file.json").string());
+    INFO(file.err);
+    REQUIRE(file.exit_code == 0);
+    const auto file_json = nlohmann::json::parse(trident::testing::read_text(dir / "file.json"));
+    CHECK(file_json.at("reference").get<std::string>().find(dumped.string()) != std::string::npos);
+    check_zero_error(file_json);
+
+    // A folder of SCENE.hits files serves several scenes.
+    fs::create_directories(dir / "folder");
+    fs::copy_file(dumped, dir / "folder" / "teapot.hits", fs::copy_options::overwrite_existing);
+    const BenchRun folder = run_bench(run_args + "--reference-hits " + (dir / "folder").string() + " --json " +
+                                      (dir / "folder.json").string());
+    INFO(folder.err);
+    REQUIRE(folder.exit_code == 0);
+    check_zero_error(nlohmann::json::parse(trident::testing::read_text(dir / "folder.json")));
+}
+
+TEST_CASE("every runnable packet width gets its own row, traced on the same rays as the scalar one") {
+    std::string simd = "scalar";
+    for (const char* width : {"simd4", "simd8", "simd16"})
+        if (trident::bench::is_runnable(*trident::bench::parse_traversal(width))) simd += std::string(",") + width;
+    const fs::path json_path = scratch_dir() / "packets.json";
+    const BenchRun run = run_bench(kTiny + "--accel brute --embree none --threads 1 --reference brute --simd " + simd +
+                                   " --json " + json_path.string());
+    INFO(run.err);
+    REQUIRE(run.exit_code == 0);
+    const auto json = nlohmann::json::parse(trident::testing::read_text(json_path));
+    std::vector<std::string> traversals;
+    for (const auto& row : json.at("rows")) {
+        CAPTURE(row.dump());
+        traversals.push_back(row.at("traversal"));
+        // Against the scalar brute force: the packet path must find the same triangles.
+        CHECK(row.at("hit_miss_share").get<double>() < 1e-3);
+        CHECK(row.at("triangle_share").get<double>() < 1e-3);
+        CHECK(row.at("nodes_per_ray").is_null() == (row.at("traversal") != "scalar"));
+    }
+    std::string joined;
+    for (const std::string& t : traversals) joined += (joined.empty() ? "" : ",") + t;
+    CHECK(joined == simd);
+}
