@@ -48,7 +48,6 @@ private:
     Structure structure_;
 };
 
-/// Whether this binary contains the structure.
 inline const char* to_string(AccelKind kind) {
     switch (kind) {
         case AccelKind::brute: return "brute";
@@ -65,7 +64,6 @@ inline std::optional<AccelKind> parse_accel_kind(std::string_view name) {
     return std::nullopt;
 }
 
-inline bool is_built(AccelKind) { return true; }
 
 inline std::vector<AccelKind> built_accel_kinds() {
     return {AccelKind::brute, AccelKind::bvh, AccelKind::kdtree, AccelKind::octree};

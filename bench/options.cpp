@@ -58,7 +58,6 @@ std::vector<AccelKind> resolve_structures(const std::vector<std::string>& names)
     for (const std::string& name : names) {
         const auto kind = parse_accel_kind(name);
         if (!kind) refuse(fmt::format("--accel {}: unknown structure (brute, bvh, kdtree, octree)", name));
-        if (!is_built(*kind)) refuse(fmt::format("--accel {}: not built yet", name));
         push_unique(kinds, *kind);
     }
     return kinds;
@@ -136,7 +135,6 @@ ReferenceChoice resolve_reference(const Arguments& args) {
     if (!kind)
         refuse(
             fmt::format("--reference {}: expected auto, embree, self, brute, bvh, kdtree or octree", args.reference));
-    if (!is_built(*kind)) refuse(fmt::format("--reference {}: not built yet", args.reference));
     choice.source = ReferenceChoice::Source::structure;
     choice.structure = *kind;
     return choice;

@@ -48,7 +48,7 @@ ReferenceChoice resolve_automatic(const ReferenceChoice& choice) {
         resolved.source = Source::embree;
     } else {
         resolved.source = Source::structure;
-        resolved.structure = is_built(AccelKind::bvh) ? AccelKind::bvh : AccelKind::brute;
+        resolved.structure = AccelKind::bvh;
     }
     return resolved;
 }

@@ -9,6 +9,8 @@
 // (core/slab_test.h, three axes at once: node_box_test.h), goes to the near child first by the
 // sign of the ray direction on the node's split axis, and stacks the far one with its entry
 // distance, so that a popped node starting beyond the closest hit found meanwhile is skipped.
+// Ray packets walk the same tree together (bvh_packet.h) and hand subtrees few of their lanes
+// need to this traversal.
 #include <cassert>
 #include <cstdint>
 #include <span>
@@ -18,9 +20,11 @@
 #include "accel/accel_stats.h"
 #include "accel/bvh/bvh_node.h"
 #include "accel/bvh/bvh_options.h"
+#include "accel/bvh/bvh_packet.h"
 #include "accel/bvh/node_box_test.h"
 #include "core/intersect_triangle.h"
 #include "core/mesh.h"
+#include "simd/packet.h"
 
 namespace trident {
 
@@ -33,11 +37,11 @@ public:
 
     template <TriangleTest Test, class Counters>
     Hit intersect(const Ray& ray, Counters& counters) const {
-        return traverse<false, Test>(ray, counters);
+        return traverse<false, Test>(ray, 0, counters);
     }
     template <TriangleTest Test, class Counters>
     bool occluded(const Ray& ray, Counters& counters) const {
-        return traverse<true, Test>(ray, counters).is_hit();
+        return traverse<true, Test>(ray, 0, counters).is_hit();
     }
     Hit intersect(const Ray& ray) const {
         NoCounters c;
@@ -46,6 +50,24 @@ public:
     bool occluded(const Ray& ray) const {
         NoCounters c;
         return occluded<TriangleTest::watertight>(ray, c);
+    }
+
+    /// Ray packets (bvh_packet.h): per active lane with tmin <= tmax, the closest hit into `hits`
+    /// (constructed from `rays`; other lanes are left as they are), or whether anything is hit.
+    /// A lane gets intersect(ray)'s hit bit for bit, except that of two triangles hit at exactly
+    /// its t it may keep the other one (bvh_packet.h says when). Subtrees that at most
+    /// SingleRayLanes lanes need are traced ray by ray; the default is the width's measured best.
+    /// Counters count per packet (and per ray in the subtrees traced ray by ray).
+    template <TriangleTest Test, class Arch, class Counters,
+              int SingleRayLanes = bvh::single_ray_lanes(RayPacket<Arch>::width)>
+    void intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters) const {
+        traverse_packet<false, Test, SingleRayLanes>(rays, hits, counters);
+    }
+    template <TriangleTest Test, class Arch, class Counters,
+              int SingleRayLanes = bvh::single_ray_lanes(RayPacket<Arch>::width)>
+    typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters) const {
+        HitPacket<Arch> limits(rays);
+        return traverse_packet<true, Test, SingleRayLanes>(rays, limits, counters);
     }
 
     const AccelStats& stats() const { return stats_; }
@@ -59,8 +81,18 @@ public:
     std::span<const TriangleId> leaf_triangle_ids() const { return triangle_ids_; }
 
 private:
+    /// The single-ray traversal of the subtree at `subtree` (the root: 0).
     template <bool AnyHit, TriangleTest Test, class Counters>
-    Hit traverse(const Ray& ray, Counters& counters) const;
+    Hit traverse(const Ray& ray, std::uint32_t subtree, Counters& counters) const;
+
+    template <bool AnyHit, TriangleTest Test, int SingleRayLanes, class Arch, class Counters>
+    typename RayPacket<Arch>::Mask traverse_packet(const RayPacket<Arch>& rays, HitPacket<Arch>& hits,
+                                                   Counters& counters) const {
+        return bvh::traverse_packet<AnyHit, Test, SingleRayLanes>(
+            {nodes_, triangles_, triangle_ids_}, rays, hits,
+            [&](const Ray& ray, std::uint32_t subtree) { return traverse<AnyHit, Test>(ray, subtree, counters); },
+            counters);
+    }
 
     std::vector<BvhNode> nodes_;
     std::vector<Triangle> triangles_;
@@ -72,7 +104,7 @@ private:
 /// Counters: nodes_visited counts node boxes tested (the root's included), triangles_tested the
 /// triangle tests.
 template <bool AnyHit, TriangleTest Test, class Counters>
-Hit Bvh::traverse(const Ray& ray, Counters& counters) const {
+Hit Bvh::traverse(const Ray& ray, std::uint32_t subtree, Counters& counters) const {
     Hit best;
     if (nodes_.empty()) return best;
     const bvh::NodeBoxTest box_test(ray);
@@ -93,8 +125,8 @@ Hit Bvh::traverse(const Ray& ray, Counters& counters) const {
     std::uint32_t stack_size = 0;
 
     float t_root;
-    if (!enters(0, t_root)) return best;
-    std::uint32_t current = 0;
+    if (!enters(subtree, t_root)) return best;
+    std::uint32_t current = subtree;
     for (;;) {
         const BvhNode& node = nodes_[current];
         if (node.is_leaf()) {

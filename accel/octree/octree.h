@@ -2,7 +2,8 @@
 // The octree of the reference study: every node split by the three planes through its centre
 // into 8 cubes, down to a maximum depth or a minimum triangle count; triangles referenced by
 // every cell they overlap; traced with the parametric algorithm of Revelles, Ureña and Lastra
-// (WSCG 2000). Building: octree_build.h; layout: octree_node.h; traversal: octree_traversal.h.
+// (WSCG 2000). Building: octree_build.h; layout: octree_node.h; traversal: octree_traversal.h,
+// for ray packets octree_packet.h.
 #include <cstdint>
 #include <span>
 #include <string>
@@ -11,9 +12,11 @@
 #include "accel/accel_stats.h"
 #include "accel/octree/octree_build.h"
 #include "accel/octree/octree_node.h"
+#include "accel/octree/octree_packet.h"
 #include "accel/octree/octree_traversal.h"
 #include "core/intersect_triangle.h"
 #include "core/mesh.h"
+#include "simd/packet.h"
 
 namespace trident {
 
@@ -37,6 +40,19 @@ public:
     bool occluded(const Ray& ray) const {
         NoCounters c;
         return occluded<TriangleTest::watertight>(ray, c);
+    }
+
+    /// Ray packets (octree_packet.h): per active lane, the same hit as intersect(ray) bit for bit,
+    /// into `hits` constructed from `rays`; the same answer as occluded(ray). Counters count per
+    /// packet (per ray for lanes traced singly).
+    template <TriangleTest Test, class Arch, class Counters>
+    void intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters) const {
+        traverse_octree_packet<OctreeQuery::closest_hit, Test>(view(), rays, hits, counters);
+    }
+    template <TriangleTest Test, class Arch, class Counters>
+    typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters) const {
+        HitPacket<Arch> hits(rays);
+        return traverse_octree_packet<OctreeQuery::any_hit, Test>(view(), rays, hits, counters);
     }
 
     const AccelStats& stats() const { return stats_; }

@@ -26,19 +26,14 @@ struct OctreeView {
 
 enum class OctreeQuery { closest_hit, any_hit };
 
-/// Traces `ray` through `tree`. Closest hit: the nearest hit with tmin <= t < tmax, or a miss
-/// (triangle kNoTriangle, t = +inf). Any hit: the first hit found, or a miss.
+/// One ray's walk through the subtree of `root` (with cell `root_cell` and slabs `root_slabs` along
+/// the ray), front to back, lowering `best` (its t is the triangle tests' limit). Returns true when
+/// the ray is finished: its query is answered, or a cell it would enter lies beyond its closest
+/// hit, and so does every cell after it. Packets walk subtrees of few lanes with it.
 template <OctreeQuery Query, TriangleTest Test, class Counters>
-Hit traverse_octree(const OctreeView& tree, const Ray& ray, Counters& counters) {
-    OctreeWalkRay walk;
-    NodeSlabs root;
-    if (!enter_root(ray, tree.cube, walk, root)) return Hit{};
-    if (root.t_enter() > root.t_exit() || root.t_exit() < ray.tmin || root.t_enter() > ray.tmax) return Hit{};
-
-    const TriangleIntersector<Test> intersector(ray);
-    Hit best;
-    best.t = ray.tmax;  // the triangle tests' limit, lowered by every hit
-
+bool walk_octree_subtree(const OctreeView& tree, const OctreeWalkRay& walk,
+                         const TriangleIntersector<Test>& intersector, float tmin, const OctreeNode& root,
+                         const NodeSlabs& root_slabs, const OctreeCube& root_cell, Hit& best, Counters& counters) {
     struct Frame {
         NodeSlabs slabs;
         Vec3f tm;
@@ -73,15 +68,10 @@ Hit traverse_octree(const OctreeView& tree, const Ray& ray, Counters& counters) 
         // a cell's face (axis-aligned walls on a centre plane) do not push the ray through the
         // next cells for nothing; that is safe because a nearer hit within those ulps of the face
         // is on a triangle the builder, whose cells are widened by far more, put in this cell too.
-        const float t_exit = slabs.t_exit();
-        return best.is_hit() && best.t <= t_exit + std::abs(t_exit) * 0x1p-21f;
+        return best.is_hit() && best.t <= widened_cell_exit(slabs.t_exit());
     };
 
-    auto answer = [&] {
-        if (!best.is_hit()) best.t = kInfinity;
-        return best;
-    };
-    if (visit(tree.nodes[0], root, tree.cube)) return answer();
+    if (visit(root, root_slabs, root_cell)) return true;
     while (top > 0) {
         Frame& frame = stack[top - 1];
         if (frame.next == 8u) {
@@ -92,11 +82,29 @@ Hit traverse_octree(const OctreeView& tree, const Ray& ray, Counters& counters) 
         const NodeSlabs slabs = child_slabs(child, frame.slabs, frame.tm);
         frame.next = next_child(child, slabs);
         const unsigned real_child = child ^ walk.mirror;
-        if (!frame.node.has_child(real_child) || slabs.t_exit() < ray.tmin) continue;
-        if (slabs.t_enter() > best.t) break;  // front to back: every cell left lies beyond it
-        if (visit(tree.nodes[frame.node.child_slot(real_child)], slabs, child_cube(frame.cell, real_child))) break;
+        if (!frame.node.has_child(real_child) || slabs.t_exit() < tmin) continue;
+        if (slabs.t_enter() > best.t) return true;  // front to back: every cell left lies beyond it
+        if (visit(tree.nodes[frame.node.child_slot(real_child)], slabs, child_cube(frame.cell, real_child)))
+            return true;
     }
-    return answer();
+    return false;
+}
+
+/// Traces `ray` through `tree`. Closest hit: the nearest hit with tmin <= t < tmax, or a miss
+/// (triangle kNoTriangle, t = +inf). Any hit: the first hit found, or a miss.
+template <OctreeQuery Query, TriangleTest Test, class Counters>
+Hit traverse_octree(const OctreeView& tree, const Ray& ray, Counters& counters) {
+    OctreeWalkRay walk;
+    NodeSlabs root;
+    if (!enter_root(ray, tree.cube, walk, root)) return Hit{};
+    if (root.t_enter() > root.t_exit() || root.t_exit() < ray.tmin || root.t_enter() > ray.tmax) return Hit{};
+
+    const TriangleIntersector<Test> intersector(ray);
+    Hit best;
+    best.t = ray.tmax;  // the triangle tests' limit, lowered by every hit
+    walk_octree_subtree<Query, Test>(tree, walk, intersector, ray.tmin, tree.nodes[0], root, tree.cube, best, counters);
+    if (!best.is_hit()) best.t = kInfinity;
+    return best;
 }
 
 }  // namespace trident

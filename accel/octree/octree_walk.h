@@ -18,10 +18,10 @@
 // +inf or -inf depending on the side of the centre plane the origin lies on, instead of the
 // paper's tiny-epsilon direction (which would change results) and instead of the NaN that
 // 0.5 * (-inf + inf) would give.
-#include <algorithm>
 #include <cmath>
 
 #include "accel/octree/octree_node.h"
+#include "core/lanes.h"
 #include "core/ray.h"
 
 namespace trident {
@@ -33,13 +33,16 @@ struct OctreeWalkRay {
     unsigned parallel = 0;  // bit i: the ray never crosses a plane of axis i
 };
 
-/// A node's slab parameters along the mirrored ray: t0[i] <= t1[i] for every axis.
-struct NodeSlabs {
-    Vec3f t0, t1;
+/// A node's slab parameters along the mirrored ray: t0[i] <= t1[i] for every axis. Over float for
+/// one ray, over a batch for a packet (octree_packet_walk.h), with the same rounding lane by lane.
+template <class T>
+struct NodeSlabsT {
+    Vec3T<T> t0, t1;
 
-    float t_enter() const { return std::max({t0.x, t0.y, t0.z}); }
-    float t_exit() const { return std::min({t1.x, t1.y, t1.z}); }
+    T t_enter() const { return Lanes<T>::max(Lanes<T>::max(t0.x, t0.y), t0.z); }
+    T t_exit() const { return Lanes<T>::min(Lanes<T>::min(t1.x, t1.y), t1.z); }
 };
+using NodeSlabs = NodeSlabsT<float>;
 
 /// The slabs of the root cube along the whole line of the ray (not clipped to tmin/tmax).
 /// Returns false when the line runs parallel to an axis outside the cube's slab on that axis, or
@@ -84,8 +87,9 @@ inline unsigned first_child(const NodeSlabs& slabs, const Vec3f& tm) {
 }
 
 /// Child `child`'s (mirrored numbering) slabs: the lower or upper half of each parent interval.
-inline NodeSlabs child_slabs(unsigned child, const NodeSlabs& parent, const Vec3f& tm) {
-    NodeSlabs out;
+template <class T>
+NodeSlabsT<T> child_slabs(unsigned child, const NodeSlabsT<T>& parent, const Vec3T<T>& tm) {
+    NodeSlabsT<T> out;
     for (int axis = 0; axis < 3; ++axis) {
         const bool upper = (child >> axis) & 1u;
         out.t0[axis] = upper ? tm[axis] : parent.t0[axis];
@@ -102,6 +106,24 @@ inline unsigned next_child(unsigned child, const NodeSlabs& child_slabs_) {
     const int axis = t1.x <= t1.y ? (t1.x <= t1.z ? 0 : 2) : (t1.y <= t1.z ? 1 : 2);
     const unsigned bit = 1u << axis;
     return (child & bit) ? 8u : (child | bit);
+}
+
+/// Whether the walk through a node (its slabs and midpoints) enters child `child` (mirrored
+/// numbering). A child whose interval has a positive length always is (for t inside it, the walk
+/// reaches the child holding the axes with tm < t, having added them in order of tm) and one with
+/// an empty interval never is; this settles the children the line only touches at an edge or a
+/// corner (a one-point interval), where the walk's tie rule decides.
+inline bool walk_enters(unsigned child, const NodeSlabs& slabs, const Vec3f& tm) {
+    unsigned c = first_child(slabs, tm);
+    while (c < child) c = next_child(c, child_slabs(c, slabs, tm));  // a walk only adds bits
+    return c == child;
+}
+
+/// The cell exit a hit must not lie beyond to end the ray in that cell (octree_traversal.h says
+/// why it is widened by a few ulps).
+template <class T>
+T widened_cell_exit(const T& t_exit) {
+    return t_exit + Lanes<T>::abs(t_exit) * T(0x1p-21f);
 }
 
 }  // namespace trident

@@ -14,7 +14,7 @@ bool same_bits(const Hit& a, const Hit& b) {
 }
 
 /// The structures whose packet traversal the renderer uses; each must match its scalar path.
-std::vector<AccelKind> kinds_with_packets() { return {AccelKind::brute}; }
+std::vector<AccelKind> kinds_with_packets() { return built_accel_kinds(); }
 
 }  // namespace
 

@@ -71,9 +71,6 @@ TEST_CASE("packet widths this CPU cannot run and structures not built yet are re
     for (const std::string simd : {"simd4", "simd8", "simd16", "4", "8", "16"})
         if (!trident::bench::is_runnable(*trident::bench::parse_traversal(simd)))
             check_refused(run_bench("--simd " + simd), "--simd " + simd + ": not runnable here");
-    for (const std::string accel : {"bvh", "kdtree", "octree"})
-        if (!trident::is_built(*trident::parse_accel_kind(accel)))
-            check_refused(run_bench("--accel " + accel), "--accel " + accel + ": not built yet");
 }
 
 TEST_CASE("a reference hit buffer of another size is refused") {

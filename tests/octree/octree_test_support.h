@@ -1,16 +1,18 @@
 #pragma once
 // Independent checks for the octree tests: exact cells walked from the root, triangle/box
 // overlap by clipping (a different algorithm from the builder's separating axes), slab
-// intervals in double.
+// intervals in double; and rays the traversal tests share.
 #include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <optional>
+#include <random>
 #include <utility>
 #include <vector>
 
 #include "accel/octree/octree.h"
+#include "core/aabb.h"
 
 namespace trident::testing {
 
@@ -88,6 +90,62 @@ inline std::pair<double, double> line_interval(const Ray& ray, const Vec3d& lo, 
         exit = std::min(exit, t1);
     }
     return {enter, exit};
+}
+
+/// Rays that run along the octree's own planes: aimed at interior node centres, lying in a
+/// node's centre plane (the direction component across it +0 or -0), and along the edge line
+/// where two centre planes of a node meet, parallel to the third axis.
+inline std::vector<Ray> rays_along_the_planes(const Octree& tree, std::uint32_t seed, std::size_t per_node) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> sym(-1.0f, 1.0f);
+    std::vector<OctreeCube> interior;
+    for_each_cell(tree, [&](std::optional<OctreeNode> node, const OctreeCube& cell, int) {
+        if (node && !node->is_leaf()) interior.push_back(cell);
+    });
+    std::shuffle(interior.begin(), interior.end(), rng);
+    interior.resize(std::min<std::size_t>(interior.size(), 60));
+    const float reach = 4.0f * tree.cube().size;
+    std::vector<Ray> rays;
+    for (const OctreeCube& cell : interior) {
+        const Vec3f mid = cell.mid();
+        for (std::size_t i = 0; i < per_node; ++i) {
+            Vec3f d = normalize(Vec3f{sym(rng), sym(rng), sym(rng)});
+            rays.push_back({mid - d * reach, d});  // through the centre
+            const int axis = int(rng() % 3);
+            const float zero = (rng() & 1) ? 0.0f : -0.0f;
+            d[axis] = zero;
+            d = d / length(d);
+            d[axis] = zero;
+            Vec3f in_plane = mid + Vec3f{sym(rng), sym(rng), sym(rng)} * (0.5f * cell.size);
+            in_plane[axis] = mid[axis];
+            rays.push_back({in_plane - d * reach, d});  // in the centre plane across `axis`
+            Vec3f along{zero, zero, zero};
+            along[axis] = (rng() & 1) ? 1.0f : -1.0f;
+            Vec3f on_edge = mid;
+            on_edge[axis] -= along[axis] * reach;
+            rays.push_back({on_edge, along});  // on the edge line of the two other centre planes
+        }
+    }
+    return rays;
+}
+
+/// Rays from inside the scene, with random [tmin, tmax) windows.
+inline std::vector<Ray> windowed_rays_from_inside(const Aabb& box, std::size_t count, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f), sym(-1.0f, 1.0f);
+    const float diagonal = length(box.extent());
+    std::vector<Ray> rays;
+    for (std::size_t i = 0; i < count; ++i) {
+        Ray ray;
+        ray.origin = box.lo + Vec3f{unit(rng), unit(rng), unit(rng)} * box.extent();
+        ray.dir = normalize(Vec3f{sym(rng), sym(rng), sym(rng)});
+        if (i % 2 == 0) {
+            ray.tmin = unit(rng) * 0.3f * diagonal;
+            ray.tmax = ray.tmin + unit(rng) * diagonal;
+        }
+        rays.push_back(ray);
+    }
+    return rays;
 }
 
 }  // namespace trident::testing
