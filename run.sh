@@ -41,11 +41,9 @@ case "$command_name" in
     bench)
         install_missing
         build build -DCMAKE_BUILD_TYPE=Release
-        if [ -x build/trident-bench ]; then
-            build/trident-bench "$@"
-        else
-            build/trident render teapot --accel "${TRIDENT_ACCEL:-bvh}" --output build/teapot.png "$@"
-        fi
+        # Without arguments: the built-in scenes, scalar against the widest SIMD packets, Embree beside.
+        [ "$#" -gt 0 ] || set -- --simd scalar,auto --json build/bench.json --markdown build/bench.md
+        build/trident-bench "$@"
         ;;
     test)
         install_missing
