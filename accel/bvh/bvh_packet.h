@@ -155,9 +155,9 @@ typename RayPacket<Arch>::Mask traverse_packet(const TreeArrays& tree, const Ray
             if constexpr (AnyHit) blocked = blocked | hit;
         } else if (node.is_leaf()) {
             const std::uint32_t end = node.first_triangle() + node.triangle_count();
+            TriangleHitT<Float> h{Float(0.0f), Float(0.0f), Float(0.0f)};
             for (std::uint32_t i = node.first_triangle(); i != end; ++i) {
                 counters.test_triangle();
-                TriangleHitT<Float> h{Float(0.0f), Float(0.0f), Float(0.0f)};
                 const Mask hit = triangle_test.intersect(tree.triangles[i], hits.t, h) & lanes;
                 if (!xsimd::any(hit)) continue;
                 if constexpr (AnyHit) {

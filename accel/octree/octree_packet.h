@@ -56,9 +56,11 @@ OctantGroup<Arch> next_octant_group(const PacketRootEntry<Arch>& root, xsimd::ba
 }
 
 /// Subtrees (the whole tree included) entered by at most this many lanes are walked by each lane
-/// alone. Measured on the built-in scenes (640x360, one thread): on primary and shadow rays the
-/// switch never paid (the lanes' data must leave the registers, and a lone lane's subtree is
-/// small); on incoherent diffuse rays a lone lane of 16 did walk faster alone (5-15%).
+/// alone. Measured on the built-in scenes (640x360, one thread, shared machine, +-5% noise): on
+/// primary rays no threshold gains anything and 2 or more lanes lose 5-15% (the lanes' data must
+/// leave the registers, and the subtrees left to few lanes are small); a lone lane walking alone
+/// makes incoherent (diffuse) packets 5-15% faster and shadow-ray packets 3-10% slower. It is done
+/// where a lone lane wastes the most: in 16-lane packets.
 template <class Arch>
 inline constexpr int kOctreeSingleRayLanes = RayPacket<Arch>::width >= 16 ? 1 : 0;
 
@@ -159,8 +161,8 @@ xsimd::batch_bool<float, Arch> traverse_octant_group(
     };
     auto visit = [&](const OctreeNode& node, const NodeSlabsT<Float>& slabs, const OctreeCube& cell, Mask lanes) {
         if (simd::active_lane_count(lanes) <= single_ray_lanes) {
-            done = done | walk_lanes_singly<Query, Test>(tree, rays, root, mirror, lanes, node, slabs, cell, hits, found,
-                                                          counters);
+            done = done | walk_lanes_singly<Query, Test>(tree, rays, root, mirror, lanes, node, slabs, cell, hits,
+                                                         found, counters);
             return;
         }
         counters.visit_node();
@@ -225,7 +227,7 @@ xsimd::batch_bool<float, Arch> traverse_octree_packet(const OctreeView& tree, co
         const OctantGroup<Arch> group = next_octant_group(root, remaining);
         remaining = remaining & !group.lanes;
         found = found | traverse_octant_group<Query, Test>(tree, rays, root, intersector, group, hits, counters,
-                                                            single_ray_lanes);
+                                                           single_ray_lanes);
     }
     return found;
 }

@@ -40,7 +40,7 @@ struct PacketRootEntry {
             const float lo = cube.lo[axis], hi = cube.lo[axis] + cube.size;
             const Float o = rays.origin[axis], d = rays.dir[axis];
             const Float inv = rays.slab.inv_dir[axis];  // 1 / d, as enter_root() computes it
-            const Mask down = d < Float(0.0f);  // -0 goes up, as in enter_root()
+            const Mask down = d < Float(0.0f);          // -0 goes up, as in enter_root()
             const Float t_lo = (xsimd::select(down, Float(hi), Float(lo)) - o) * inv;
             const Float t_hi = (xsimd::select(down, Float(lo), Float(hi)) - o) * inv;
             const Mask finite = (xsimd::abs(t_lo) < infinity) & (xsimd::abs(t_hi) < infinity);
@@ -56,10 +56,10 @@ struct PacketRootEntry {
 
 /// slab_midpoints() for every lane, in a group mirrored by `mirror` (bit i: axis i).
 template <class Arch>
-Vec3T<xsimd::batch<float, Arch>> packet_slab_midpoints(const RayPacket<Arch>& rays,
-                                                      const PacketRootEntry<Arch>& root, unsigned mirror,
-                                                      const NodeSlabsT<xsimd::batch<float, Arch>>& slabs,
-                                                      const OctreeCube& cell) {
+Vec3T<xsimd::batch<float, Arch>> packet_slab_midpoints(const RayPacket<Arch>& rays, const PacketRootEntry<Arch>& root,
+                                                       unsigned mirror,
+                                                       const NodeSlabsT<xsimd::batch<float, Arch>>& slabs,
+                                                       const OctreeCube& cell) {
     using Float = xsimd::batch<float, Arch>;
     const Vec3f mid = cell.mid();
     Vec3T<Float> tm;

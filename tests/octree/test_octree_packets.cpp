@@ -37,12 +37,12 @@ namespace {
 using LaneFilter = std::function<bool(std::size_t)>;
 
 struct PacketComparison {
-    std::size_t lanes = 0;       // lanes compared
-    std::size_t hits = 0;        // of them, single-ray hits (to see the test is not vacuous)
-    std::size_t closest = 0;     // lanes whose closest hit differs in any bit
-    std::size_t occluded = 0;    // lanes whose any-hit answer differs
-    std::size_t untouched = 0;   // lanes not traced whose hit record changed anyway
-    std::size_t padding = 0;     // lanes past the rays, reported occluded
+    std::size_t lanes = 0;      // lanes compared
+    std::size_t hits = 0;       // of them, single-ray hits (to see the test is not vacuous)
+    std::size_t closest = 0;    // lanes whose closest hit differs in any bit
+    std::size_t occluded = 0;   // lanes whose any-hit answer differs
+    std::size_t untouched = 0;  // lanes not traced whose hit record changed anyway
+    std::size_t padding = 0;    // lanes past the rays, reported occluded
 
     void require_agreement() const {
         CHECK(lanes > 0);
@@ -233,7 +233,8 @@ TEST_CASE("subtrees walked lane by lane, for any number of lanes, give the packe
         for (const int single_ray_lanes : {0, 1, 2, width / 2, width}) {
             CAPTURE(single_ray_lanes);
             compare_packets<Arch>(tree, rays, 0, {}, single_ray_lanes).require_agreement();
-            compare_packets<Arch>(tree, blocks, 0, [](std::size_t lane) { return lane % 5 == 3; }, single_ray_lanes)
+            compare_packets<Arch>(
+                tree, blocks, 0, [](std::size_t lane) { return lane % 5 == 3; }, single_ray_lanes)
                 .require_agreement();
         }
     });
@@ -265,7 +266,8 @@ TEST_CASE("a packet of one ray in every lane does exactly the single ray's work,
                               single_any.triangles_tested != packed_any.triangles_tested;
             std::array<Hit, RayPacket<Arch>::width> got;
             hits.store(got);
-            different_hits += std::count_if(got.begin(), got.end(), [&](const Hit& h) { return !same_bits(h, expected); });
+            different_hits +=
+                std::count_if(got.begin(), got.end(), [&](const Hit& h) { return !same_bits(h, expected); });
         }
         CHECK(different_work == 0);
         CHECK(different_hits == 0);
@@ -370,8 +372,8 @@ TEST_CASE("the counters count per packet: at least the busiest lane's work, at m
             }
             below_busiest += one_packet.nodes_visited < busiest.nodes_visited ||
                              one_packet.triangles_tested < busiest.triangles_tested;
-            above_sum += one_packet.nodes_visited > sum.nodes_visited ||
-                         one_packet.triangles_tested > sum.triangles_tested;
+            above_sum +=
+                one_packet.nodes_visited > sum.nodes_visited || one_packet.triangles_tested > sum.triangles_tested;
             packets += one_packet;
             lanes += sum;
         }
