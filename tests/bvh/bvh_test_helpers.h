@@ -14,6 +14,7 @@
 #include "accel/bvh/bvh_stats.h"
 #include "core/scene.h"
 #include "scenes/builtin.h"
+#include "support/camera_rays.h"
 
 namespace trident::testing {
 
@@ -24,23 +25,6 @@ std::vector<Hit> trace_all(const Bvh& bvh, const std::vector<Ray>& rays) {
     NoCounters counters;
     for (const Ray& ray : rays) hits.push_back(bvh.intersect<Test>(ray, counters));
     return hits;
-}
-
-/// Primary rays of the scene's camera (BENCHMARK.md's pinhole, 16:9) through random pixels.
-inline std::vector<Ray> camera_rays(const CameraSpec& camera, std::size_t count, std::uint32_t seed) {
-    constexpr float kPi = 3.14159265358979f;
-    const Vec3f forward = normalize(camera.target - camera.eye);
-    const Vec3f right = normalize(cross(forward, camera.up));
-    const Vec3f up = cross(right, forward);
-    const float ty = std::tan(camera.fov_y_deg * kPi / 360.0f), tx = ty * 16.0f / 9.0f;
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
-    std::vector<Ray> rays(count);
-    for (Ray& ray : rays) {
-        ray.origin = camera.eye;
-        ray.dir = normalize(forward + right * (unit(rng) * tx) + up * (unit(rng) * ty));
-    }
-    return rays;
 }
 
 /// The built-in scene and its BVH (default options), each made once per test run: several tests
