@@ -58,7 +58,8 @@ bool has_structure(const BenchReport& report, const std::string& structure) {
                        [&](const BenchRow& r) { return r.structure == structure; });
 }
 
-/// The study's three always (a dash where one is not built yet), then brute and Embree if measured.
+/// The study's three always (a dash where one was left out by --accel), then brute and Embree if
+/// measured.
 std::vector<std::string> table_structures(const BenchReport& report, bool with_embree) {
     std::vector<std::string> structures = {"bvh", "kdtree", "octree"};
     if (has_structure(report, "brute")) structures.push_back("brute");
