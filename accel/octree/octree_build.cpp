@@ -14,7 +14,7 @@
 #include <string>
 
 #include "accel/octree/morton_order.h"
-#include "accel/octree/triangle_box_overlap.h"
+#include "core/triangle_box_overlap.h"
 
 namespace trident {
 

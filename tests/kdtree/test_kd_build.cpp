@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "accel/kdtree/kdtree.h"
-#include "accel/octree/triangle_box_overlap.h"
+#include "core/triangle_box_overlap.h"
 #include "kdtree/kd_test_support.h"
 #include "support/random_scenes.h"
 

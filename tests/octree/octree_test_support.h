@@ -13,6 +13,7 @@
 
 #include "accel/octree/octree.h"
 #include "core/aabb.h"
+#include "support/triangle_box_clipping.h"
 
 namespace trident::testing {
 
@@ -40,33 +41,6 @@ inline void for_each_cell(const Octree& tree,
                 visit(std::nullopt, cell, item.depth + 1);
         }
     }
-}
-
-/// Does the triangle meet the closed box [lo, hi]? Clips the triangle (Sutherland-Hodgman) against
-/// the six faces in double; touching counts.
-inline bool triangle_meets_box_by_clipping(const Triangle& tri, const Vec3d& lo, const Vec3d& hi) {
-    std::vector<Vec3d> polygon{Vec3d(tri.a), Vec3d(tri.b), Vec3d(tri.c)}, next;
-    for (int axis = 0; axis < 3; ++axis) {
-        for (int side = 0; side < 2; ++side) {
-            const double bound = side == 0 ? lo[axis] : hi[axis];
-            auto inside = [&](const Vec3d& p) { return side == 0 ? p[axis] >= bound : p[axis] <= bound; };
-            next.clear();
-            for (std::size_t i = 0; i < polygon.size(); ++i) {
-                const Vec3d& p = polygon[i];
-                const Vec3d& q = polygon[(i + 1) % polygon.size()];
-                if (inside(p)) next.push_back(p);
-                if (inside(p) != inside(q)) {
-                    const double t = (bound - p[axis]) / (q[axis] - p[axis]);
-                    Vec3d x = p + (q - p) * t;
-                    x[axis] = bound;
-                    next.push_back(x);
-                }
-            }
-            polygon.swap(next);
-            if (polygon.empty()) return false;
-        }
-    }
-    return true;
 }
 
 inline bool triangle_meets_cell(const Triangle& tri, const OctreeCube& cell) {

@@ -3,8 +3,8 @@
 
 #include <random>
 
-#include "accel/octree/triangle_box_overlap.h"
-#include "octree/octree_test_support.h"
+#include "core/triangle_box_overlap.h"
+#include "support/triangle_box_clipping.h"
 
 using namespace trident;
 using testing::triangle_meets_box_by_clipping;
