@@ -1,7 +1,8 @@
 #include "accel/bvh/binned_sah_splitter.h"
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_reduce.h>
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cassert>
@@ -19,30 +20,48 @@ constexpr int kBinCapacity = BvhOptions::kMaxLargeNodeBins;
 constexpr std::uint32_t kParallelBinningMin = 1u << 15;
 constexpr std::uint32_t kBinningGrain = 1u << 13;
 
-/// Binning touches every reference on every level, so it works on whole boxes: four lanes, of
-/// which x, y, z matter (the fourth is zeroed where a load brings in the id, and never read).
+/// Binning touches every reference on every level, so it works on whole boxes. A bin stores its
+/// box as lo and -hi in eight lanes (x, y, z and a spare lane each), so that one min grows both
+/// corners (Embree's binner keeps boxes the same way).
+using Float8 = xsimd::make_sized_batch_t<float, 8>;
 using Float4 = xsimd::make_sized_batch_t<float, 4>;
 using Int4 = xsimd::make_sized_batch_t<std::int32_t, 4>;
 
-Float4 load_lo(const PrimitiveRef& ref) { return Float4::load_aligned(reinterpret_cast<const float*>(&ref)); }
+Float8 load_whole(const PrimitiveRef& ref) { return Float8::load_aligned(reinterpret_cast<const float*>(&ref)); }
+
+/// `lo` with lane 3 zeroed: it holds the id's bits, which read as a denormal float for most ids,
+/// and arithmetic on denormals is many times slower.
+Float4 load_lo(const PrimitiveRef& ref) {
+    const Float4 xyz = xsimd::bitwise_cast<Float4>(Int4{-1, -1, -1, 0});
+    return Float4::load_aligned(reinterpret_cast<const float*>(&ref)) & xyz;
+}
 Float4 load_hi(const PrimitiveRef& ref) { return Float4::load_aligned(reinterpret_cast<const float*>(&ref) + 4); }
 
-/// The union of a bin's boxes. Plain floats keep it trivially constructible, so a node clears
-/// only the bins it uses.
-struct alignas(16) BinBox {
-    float lo[4], hi[4];
+/// A reference's box as lo, -hi, with the id's lane zeroed (see load_lo); lanes 3 and 7 are
+/// never read.
+Float8 load_lo_negated_hi(const PrimitiveRef& ref) {
+    using Int8 = xsimd::make_sized_batch_t<std::int32_t, 8>;
+    const Float8 xyz = xsimd::bitwise_cast<Float8>(Int8{-1, -1, -1, 0, -1, -1, -1, 0});
+    const Float8 negate_hi = xsimd::bitwise_cast<Float8>(Int8{0, 0, 0, 0, INT32_MIN, INT32_MIN, INT32_MIN, 0});
+    return (load_whole(ref) & xyz) ^ negate_hi;
+}
 
-    void clear() {
-        Float4(kInfinity).store_aligned(lo);
-        Float4(-kInfinity).store_aligned(hi);
+/// The union of a bin's boxes as lo and -hi. Plain floats keep it trivially constructible, so a
+/// node clears only the bins it uses.
+struct alignas(32) BinBox {
+    float lo_negated_hi[8];
+
+    void clear() { Float8(kInfinity).store_aligned(lo_negated_hi); }
+    void add(const Float8& box) { xsimd::min(Float8::load_aligned(lo_negated_hi), box).store_aligned(lo_negated_hi); }
+    void add(const BinBox& other) { add(Float8::load_aligned(other.lo_negated_hi)); }
+    Float4 lo() const { return Float4::load_aligned(lo_negated_hi); }
+    Float4 negated_hi() const { return Float4::load_aligned(lo_negated_hi + 4); }
+    Aabb bounds() const {
+        const float* v = lo_negated_hi;
+        return {{v[0], v[1], v[2]}, {-v[4], -v[5], -v[6]}};
     }
-    void add(const Float4& box_lo, const Float4& box_hi) {
-        xsimd::min(Float4::load_aligned(lo), box_lo).store_aligned(lo);
-        xsimd::max(Float4::load_aligned(hi), box_hi).store_aligned(hi);
-    }
-    void add(const BinBox& other) { add(Float4::load_aligned(other.lo), Float4::load_aligned(other.hi)); }
-    Aabb bounds() const { return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}; }
 };
+static_assert(sizeof(BinBox) == 32);
 
 /// The bins of the three axes: boxes per axis, counts per bin with one lane per axis (so the
 /// sweep reads the three axes' counts of a bin at once).
@@ -76,30 +95,30 @@ void fill_bins(std::span<const PrimitiveRef> refs, std::uint32_t begin, std::uin
                int single_axis, BinGrid& grid) {
     const Float4 origin{mapping.origin[0], mapping.origin[1], mapping.origin[2], 0.0f};
     const Float4 scale{mapping.scale[0], mapping.scale[1], mapping.scale[2], 0.0f};
-    const Float4 xyz = xsimd::bitwise_cast<Float4>(Int4{-1, -1, -1, 0});  // zeroes the id lane of lo
     const Int4 last_bin(mapping.count - 1);
     auto add = [&](const PrimitiveRef& ref, BinGrid& to) {
-        const Float4 lo = load_lo(ref) & xyz, hi = load_hi(ref);
-        const Float4 centroid = (lo + hi) * Float4(0.5f);
+        const Float4 centroid = (load_lo(ref) + load_hi(ref)) * Float4(0.5f);
         alignas(16) std::int32_t bin[4];
         xsimd::min(xsimd::batch_cast<std::int32_t>((centroid - origin) * scale), last_bin).store_aligned(bin);
+        const Float8 box = load_lo_negated_hi(ref);
         for (int axis = 0; axis < 3; ++axis) {
             if (!AllAxes && axis != single_axis) continue;
-            to.boxes[axis][bin[axis]].add(lo, hi);
+            to.boxes[axis][bin[axis]].add(box);
             ++to.counts[bin[axis]][axis];
         }
     };
+    const PrimitiveRef* ref = refs.data();
     if (end - begin < kTwoGridMin) {
-        for (std::uint32_t i = begin; i != end; ++i) add(refs[i], grid);
+        for (std::uint32_t i = begin; i != end; ++i) add(ref[i], grid);
         return;
     }
     BinGrid odd(mapping.count);
     std::uint32_t i = begin;
     for (; i + 1 < end; i += 2) {
-        add(refs[i], grid);
-        add(refs[i + 1], odd);
+        add(ref[i], grid);
+        add(ref[i + 1], odd);
     }
-    if (i != end) add(refs[i], grid);
+    if (i != end) add(ref[i], grid);
     grid.merge(odd);
 }
 
@@ -115,33 +134,61 @@ void fill_bins(std::span<const PrimitiveRef> refs, const BuildRange& range, cons
         fill(range.begin, range.end, grid);
         return;
     }
-    grid = tbb::parallel_reduce(
-        tbb::blocked_range<std::uint32_t>(range.begin, range.end, kBinningGrain), grid,
-        [&](const tbb::blocked_range<std::uint32_t>& r, BinGrid partial) {
-            fill(r.begin(), r.end(), partial);
-            return partial;
-        },
-        [](BinGrid a, const BinGrid& b) {
-            a.merge(b);
-            return a;
-        });
+    // One grid per thread rather than a reduction of grid values, which would copy a grid (up
+    // to 28 KiB) for every chunk; the merge is exact, so its order does not matter.
+    tbb::combinable<BinGrid> per_thread([&] { return BinGrid(mapping.count); });
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(range.begin, range.end, kBinningGrain),
+                      [&](const tbb::blocked_range<std::uint32_t>& r) { fill(r.begin(), r.end(), per_thread.local()); });
+    per_thread.combine_each([&](const BinGrid& partial) { grid.merge(partial); });
 }
 
-/// Copies refs [begin, end) from `from` to `to` and returns the union of their centroids,
-/// computed as PrimitiveRef::centroid computes them.
-Aabb copy_and_bound_centroids(const PrimitiveRef* from, PrimitiveRef* to, std::uint32_t begin, std::uint32_t end) {
-    const Float4 xyz = xsimd::bitwise_cast<Float4>(Int4{-1, -1, -1, 0});
-    Float4 lo_bound(kInfinity), hi_bound(-kInfinity);
-    for (std::uint32_t i = begin; i != end; ++i) {
-        const Float4 centroid = ((load_lo(from[i]) & xyz) + load_hi(from[i])) * Float4(0.5f);
-        lo_bound = xsimd::min(lo_bound, centroid);
-        hi_bound = xsimd::max(hi_bound, centroid);
-        to[i] = from[i];
+/// The union of centroids, each computed as PrimitiveRef::centroid computes it.
+struct CentroidBounds {
+    Float4 lo = Float4(kInfinity), hi = Float4(-kInfinity);
+
+    void add(const PrimitiveRef& ref) {
+        const Float4 centroid = (load_lo(ref) + load_hi(ref)) * Float4(0.5f);
+        lo = xsimd::min(lo, centroid);
+        hi = xsimd::max(hi, centroid);
     }
-    alignas(16) float l[4], h[4];
-    lo_bound.store_aligned(l);
-    hi_bound.store_aligned(h);
-    return {{l[0], l[1], l[2]}, {h[0], h[1], h[2]}};
+    Aabb bounds() const {
+        alignas(16) float l[4], h[4];
+        lo.store_aligned(l);
+        hi.store_aligned(h);
+        return {{l[0], l[1], l[2]}, {h[0], h[1], h[2]}};
+    }
+};
+
+/// Copies refs [begin, end) from `from` to `to` and returns the union of their centroids.
+Aabb copy_and_bound_centroids(const PrimitiveRef* from, PrimitiveRef* to, std::uint32_t begin, std::uint32_t end) {
+    CentroidBounds centroids;
+    for (std::uint32_t i = begin; i != end; ++i) {
+        centroids.add(from[i]);
+        load_whole(from[i]).store_aligned(reinterpret_cast<float*>(to + i));
+    }
+    return centroids.bounds();
+}
+
+/// Scatters refs [begin, end) of `from` into the same range of `to`: those whose bin position on
+/// Axis, (centroid - origin) * scale computed as the binning computes it, is below `left_limit`
+/// from the front, the others from the back. Returns the end of the left ones. Each reference
+/// is written to both candidate slots; the wrong one lies in the gap between the two fronts and
+/// is overwritten later (when the fronts meet, both slots are the same). Axis is a template
+/// parameter so the coordinates load from fixed offsets.
+template <int Axis>
+std::uint32_t scatter_by_position(const PrimitiveRef* from, PrimitiveRef* to, std::uint32_t begin, std::uint32_t end,
+                                  float origin, float scale, float left_limit) {
+    std::uint32_t left_end = begin, right_begin = end;
+    for (std::uint32_t i = begin; i != end; ++i) {
+        const float position = ((from[i].lo[Axis] + from[i].hi[Axis]) * 0.5f - origin) * scale;
+        const std::uint32_t left = position < left_limit;
+        const Float8 ref = load_whole(from[i]);
+        ref.store_aligned(reinterpret_cast<float*>(to + left_end));
+        ref.store_aligned(reinterpret_cast<float*>(to + right_begin - 1));
+        left_end += left;
+        right_begin -= 1 - left;
+    }
+    return left_end;
 }
 
 Aabb union_of_bins(const BinBox* boxes, int first, int last) {
@@ -151,22 +198,24 @@ Aabb union_of_bins(const BinBox* boxes, int first, int last) {
     return all.bounds();
 }
 
-/// Growing boxes of the three axes, each as x, y, z lanes.
+/// Growing boxes of the three axes, each as x, y, z lanes of lo and -hi.
 struct AxisBoxes {
     Float4 lo[3] = {Float4(kInfinity), Float4(kInfinity), Float4(kInfinity)};
-    Float4 hi[3] = {Float4(-kInfinity), Float4(-kInfinity), Float4(-kInfinity)};
+    Float4 negated_hi[3] = {Float4(kInfinity), Float4(kInfinity), Float4(kInfinity)};
 
     void add(const BinGrid& grid, int bin) {
         for (int axis = 0; axis < 3; ++axis) {
-            lo[axis] = xsimd::min(lo[axis], Float4::load_aligned(grid.boxes[axis][bin].lo));
-            hi[axis] = xsimd::max(hi[axis], Float4::load_aligned(grid.boxes[axis][bin].hi));
+            lo[axis] = xsimd::min(lo[axis], grid.boxes[axis][bin].lo());
+            negated_hi[axis] = xsimd::min(negated_hi[axis], grid.boxes[axis][bin].negated_hi());
         }
     }
     /// The three surface areas, one lane per axis, by the formula of Aabb::surface_area (a box
     /// still empty gives +inf, never NaN).
     Float4 surface_areas() const {
         using Double2 = xsimd::batch<double, Float4::arch_type>;
-        const Float4 e0 = hi[0] - lo[0], e1 = hi[1] - lo[1], e2 = hi[2] - lo[2], zero(0.0f);
+        // -(-hi) is hi exactly, so the extents are those of Aabb::extent bit for bit.
+        const Float4 e0 = -negated_hi[0] - lo[0], e1 = -negated_hi[1] - lo[1], e2 = -negated_hi[2] - lo[2];
+        const Float4 zero(0.0f);
         // Transpose the extents so that ex holds the x extents of the three boxes, and so on.
         const Double2 xy01 = xsimd::bitwise_cast<Double2>(xsimd::zip_lo(e0, e1));   // x0 x1 y0 y1
         const Double2 zw01 = xsimd::bitwise_cast<Double2>(xsimd::zip_hi(e0, e1));   // z0 z1 . .
@@ -290,17 +339,17 @@ ChildRanges BinnedSahSplitter::partition(const BuildRange& range, const Split& s
     // data-dependent branch would mispredict half the time), then copy back, bounding centroids.
     const BinMapping mapping(range.centroid_bounds, bins_for_count(range.count()));
     const int axis = split.axis;
-    // Each reference is written to both candidate slots; the wrong one lies in the gap between
-    // the two fronts and is overwritten later (when the fronts meet, both slots are the same).
-    std::uint32_t left_end = range.begin, right_begin = range.end;
-    for (std::uint32_t i = range.begin; i != range.end; ++i) {
-        const std::uint32_t left = mapping.bin(refs_[i].centroid(axis), axis) <= split.last_left_bin;
-        scratch_[left_end] = refs_[i];
-        scratch_[right_begin - 1] = refs_[i];
-        left_end += left;
-        right_begin -= 1 - left;
-    }
-    assert(left_end == right_begin && left_end - range.begin == split.left_count);
+    // A reference goes left when its bin, int(position), is at most last_left_bin: for the
+    // position >= 0 that centroids at or beyond the origin have, that is position < bin + 1.
+    const float left_limit = float(split.last_left_bin + 1);
+    const auto scatter = [&]<int Axis>() {
+        return scatter_by_position<Axis>(refs_.data(), scratch_.get(), range.begin, range.end, mapping.origin[Axis],
+                                         mapping.scale[Axis], left_limit);
+    };
+    const std::uint32_t left_end = axis == 0   ? scatter.template operator()<0>()
+                                   : axis == 1 ? scatter.template operator()<1>()
+                                               : scatter.template operator()<2>();
+    assert(left_end - range.begin == split.left_count);
     const Aabb left_centroids = copy_and_bound_centroids(scratch_.get(), refs_.data(), range.begin, left_end);
     const Aabb right_centroids = copy_and_bound_centroids(scratch_.get(), refs_.data(), left_end, range.end);
     return {{range.begin, left_end, split.left_bounds, left_centroids},

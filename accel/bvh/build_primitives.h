@@ -11,9 +11,10 @@
 
 namespace trident::bvh {
 
-/// A triangle's box and id in 32 bytes: `lo` and the id load as one 4-lane vector, `hi` and a
-/// zero as another, which is how the binning reads them (binned_sah_splitter.cpp).
-struct alignas(16) PrimitiveRef {
+/// A triangle's box and id in 32 bytes, aligned so that a reference is one 8-lane load: `lo` and
+/// the id load as one 4-lane vector, `hi` and a zero as another, which is how the binning reads
+/// them (binned_sah_splitter.cpp).
+struct alignas(32) PrimitiveRef {
     float lo[3];
     TriangleId id;
     float hi[3];

@@ -129,6 +129,33 @@ void for_each_axis(bool parallel, F f) {
         for (int axis = 0; axis < 3; ++axis) f(axis);
 }
 
+/// Per triangle of a node: per child, its index there << 2 | 1 when the child takes the triangle's
+/// events from the node's lists, else 0.
+using Destination = std::array<std::uint32_t, 2>;
+
+/// Copies the events a child takes (Children: 0 below, 1 above, 2 both) renumbered to out[c],
+/// advancing it; out[c] may be written one past the events kept. keep[c] is 0 for a child that
+/// builds no lists (its out[c] is a sink).
+template <int Children>
+void filter_events(std::span<const Event> events, std::span<const Destination> dest,
+                   const std::array<std::uint32_t, 2>& keep, std::array<Event*, 2>& out) {
+    Event* below = out[0];
+    Event* above = out[1];
+    for (const Event& e : events) {
+        const Destination& d = dest[e.prim()];
+        const std::uint32_t type = e.prim_type & 3u;
+        if constexpr (Children != 1) {
+            *below = {e.position, (d[0] & ~3u) | type};
+            below += d[0] & keep[0];
+        }
+        if constexpr (Children != 0) {
+            *above = {e.position, (d[1] & ~3u) | type};
+            above += d[1] & keep[1];
+        }
+    }
+    out = {below, above};
+}
+
 class SahBuilder {
 public:
     SahBuilder(std::span<const Triangle> triangles, const KdTreeOptions& options)
@@ -230,7 +257,7 @@ private:
         }
 
         const ScratchArena::Mark mark = scratch.kept.mark();
-        const auto [below, above] = split_node(node, split, scratch);
+        const auto [below, above] = split_node(node, split, depth + 1 < max_depth_, scratch);
         if (node.size() >= options_.parallel_triangles) {
             // Children as tasks, into subtrees of their own; emit() lays them out as the
             // sequential branch would have. Children never outnumber their parent, so a node
@@ -314,10 +341,15 @@ private:
 
     // ---- Splitting the node's lists (Wald and Havran, sections 4.3 and 4.4) ----------------------
 
-    std::array<NodeWork, 2> split_node(const NodeWork& node, const Split& split, ThreadScratch& scratch) const {
+    /// Splits the node's triangles and, for a child that may split again (children_may_split and
+    /// more than leaf_triangles triangles), its event lists; a child that is a leaf at once gets
+    /// its triangles only.
+    std::array<NodeWork, 2> split_node(const NodeWork& node, const Split& split, bool children_may_split,
+                                       ThreadScratch& scratch) const {
         const std::size_t n = node.size();
         const int k = split.axis;
         const float p = split.position;
+        const bool perfect = options_.perfect_splits;
         const ScratchArena::Mark temp_mark = scratch.temp.mark();
 
         // Classify: one pass over the split axis. side &= rule[type][where], where compares the
@@ -351,18 +383,24 @@ private:
         }
         const std::span<const std::uint32_t> straddlers = all_straddlers.first(straddler_count);
 
-        // The straddlers' bounds in each child: clamped to the child's cell, or clipped (perfect
-        // splits), which may show that the triangle misses one child.
+        // The straddlers' bounds in each child. Without perfect splits they are the node's bounds
+        // clamped to the child's cell: unchanged off the split axis, so their events there are the
+        // node's, and on the split axis the plane replaces the end (below) or the start (above).
+        // Perfect splits clip them (which may show that a triangle misses one child) and give
+        // them fresh events on every axis.
         std::array<Aabb, 2> cells{node.cell, node.cell};
         cells[0].hi[k] = p;
         cells[1].lo[k] = p;
-        const std::span<Aabb> straddler_bounds = scratch.temp.allocate<Aabb>(2 * straddler_count);
-        auto bound_straddlers = [&](std::size_t begin, std::size_t end) {
-            for (std::size_t j = begin; j < end; ++j) {
-                const std::uint32_t i = straddlers[j];
-                const TriangleId id = node.prims[i];
-                for (int c = 0; c < 2; ++c) straddler_bounds[2 * j + c] = intersection(bounds_[id], cells[c]);
-                if (options_.perfect_splits) {
+        std::span<Aabb> straddler_bounds;
+        std::array<std::size_t, 2> fresh_count{0, 0};
+        std::array<std::array<std::size_t, 3>, 2> flat_fresh{};
+        if (perfect) {
+            straddler_bounds = scratch.temp.allocate<Aabb>(2 * straddler_count);
+            auto bound_straddlers = [&](std::size_t begin, std::size_t end) {
+                for (std::size_t j = begin; j < end; ++j) {
+                    const std::uint32_t i = straddlers[j];
+                    const TriangleId id = node.prims[i];
+                    for (int c = 0; c < 2; ++c) straddler_bounds[2 * j + c] = intersection(bounds_[id], cells[c]);
                     const auto below = kd::clipped_triangle_bounds(triangles_[id], cells[0]);
                     const auto above = kd::clipped_triangle_bounds(triangles_[id], cells[1]);
                     // Both empty only through rounding, for a triangle touching the plane: keep
@@ -370,60 +408,72 @@ private:
                     if (below || above) side[i] = std::uint8_t((below ? kBelow : 0) | (above ? kAbove : 0));
                     if (below) straddler_bounds[2 * j] = *below;
                     if (above) straddler_bounds[2 * j + 1] = *above;
+                    side[i] |= kFreshEvents;
                 }
-                side[i] |= kFreshEvents;
+            };
+            if (straddler_count >= 2 * kClipGrain)
+                tbb::parallel_for(
+                    tbb::blocked_range<std::size_t>(0, straddler_count, kClipGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) { bound_straddlers(r.begin(), r.end()); });
+            else
+                bound_straddlers(0, straddler_count);
+            for (std::size_t j = 0; j < straddler_count; ++j)
+                for (int c = 0; c < 2; ++c) {
+                    if (!(side[straddlers[j]] & (1u << c))) continue;
+                    ++fresh_count[c];
+                    const Aabb& box = straddler_bounds[2 * j + std::size_t(c)];
+                    for (int axis = 0; axis < 3; ++axis) flat_fresh[c][axis] += box.lo[axis] == box.hi[axis];
+                }
+        } else {
+            fresh_count = {straddler_count, straddler_count};
+            for (int axis = 0; axis < 3; ++axis) {
+                // Flat straddlers: all flat triangles (one event each) less the one-sided ones.
+                const std::size_t flat_all = 2 * n - node.events[axis].size();
+                flat_fresh[0][axis] = flat_fresh[1][axis] = flat_all - flat_kept[axis];
             }
-        };
-        if (options_.perfect_splits && straddler_count >= 2 * kClipGrain)
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, straddler_count, kClipGrain),
-                              [&](const tbb::blocked_range<std::size_t>& r) { bound_straddlers(r.begin(), r.end()); });
-        else
-            bound_straddlers(0, straddler_count);
+        }
 
-        // Sizes: triangles per child, and per child and axis the kept and the fresh events.
-        std::array<std::size_t, 2> fresh_count{0, 0};
-        std::array<std::array<std::size_t, 3>, 2> flat_fresh{}, fresh_size{}, total{};
-        for (std::size_t j = 0; j < straddler_count; ++j)
-            for (int c = 0; c < 2; ++c) {
-                if (!(side[straddlers[j]] & (1u << c))) continue;
-                ++fresh_count[c];
-                const Aabb& box = straddler_bounds[2 * j + std::size_t(c)];
-                for (int axis = 0; axis < 3; ++axis) flat_fresh[c][axis] += box.lo[axis] == box.hi[axis];
-            }
+        // Sizes: triangles per child, and per child and axis all events and the fresh ones (those
+        // sorted and merged in: perfect splits only).
+        std::array<bool, 2> lists{};
+        std::array<std::array<std::size_t, 3>, 2> fresh_size{}, total{};
         std::size_t fresh_total = 0, sort_size = 0;
         std::array<NodeWork, 2> child;
         for (int c = 0; c < 2; ++c) {
+            const std::size_t size = kept_count[c] + fresh_count[c];
+            lists[c] = children_may_split && size > options_.leaf_triangles;
             child[c].cell = cells[c];
-            child[c].prims = scratch.kept.allocate<std::uint32_t>(kept_count[c] + fresh_count[c]);
-            child[c].flat_axes = scratch.kept.allocate<std::uint8_t>(kept_count[c] + fresh_count[c]);
+            child[c].prims = scratch.kept.allocate<std::uint32_t>(size);
+            child[c].flat_axes = scratch.kept.allocate<std::uint8_t>(size);
+            if (!lists[c]) continue;
             for (int axis = 0; axis < 3; ++axis) {
                 const std::size_t flat = c == 0 ? flat_kept_below[axis] : flat_kept[axis] - flat_kept_below[axis];
+                total[c][axis] = 2 * size - flat - flat_fresh[c][axis];
+                if (!perfect) continue;
                 fresh_size[c][axis] = 2 * fresh_count[c] - flat_fresh[c][axis];
-                total[c][axis] = 2 * kept_count[c] - flat + fresh_size[c][axis];
                 fresh_total += fresh_size[c][axis];
                 sort_size = std::max(sort_size, fresh_size[c][axis]);
             }
             // One slot of slack after each list: the branch-free filter below may write one past.
-            const std::span<Event> lists = scratch.kept.allocate<Event>(total[c][0] + total[c][1] + total[c][2] + 3);
+            const std::span<Event> all = scratch.kept.allocate<Event>(total[c][0] + total[c][1] + total[c][2] + 3);
             for (std::size_t axis = 0, at = 0; axis < 3; at += total[c][axis++] + 1)
-                child[c].events[axis] = lists.subspan(at, total[c][axis]);
+                child[c].events[axis] = all.subspan(at, total[c][axis]);
         }
 
-        // New local indices: one-sided triangles keep their order, straddlers follow. dest[i] is
-        // the new index << 2 | the side bits, 0 for a straddler (its events are made afresh).
-        const std::span<std::uint32_t> dest = scratch.temp.allocate<std::uint32_t>(n);
+        // New local indices: one-sided triangles keep their order, straddlers follow. dest[i][c]
+        // is the index in child c << 2 | 1 when that child takes the triangle's events from the
+        // node's lists, 0 when not (the other side, or fresh events).
+        const std::span<Destination> dest = scratch.temp.allocate<Destination>(n);
         std::array<std::uint32_t, 2> next{0, 0};
         for (std::size_t i = 0; i < n; ++i) {
             const unsigned s = side[i];
-            if (s & kFreshEvents) {
-                dest[i] = 0;
-                continue;
-            }
-            const unsigned c = s >> 1;  // kBelow -> 0, kAbove -> 1
+            dest[i] = {0, 0};
+            if (s != kBelow && s != kAbove) continue;  // a straddler
+            const unsigned c = s >> 1;                 // kBelow -> 0, kAbove -> 1
             const std::uint32_t index = next[c]++;
             child[c].prims[index] = node.prims[i];
             child[c].flat_axes[index] = node.flat_axes[i];
-            dest[i] = index << 2 | s;
+            dest[i][c] = index << 2 | 1u;
         }
         for (std::size_t j = 0; j < straddler_count; ++j) {
             const std::uint32_t i = straddlers[j];
@@ -431,27 +481,53 @@ private:
                 if (!(side[i] & (1u << c))) continue;
                 const std::uint32_t index = next[c]++;
                 child[c].prims[index] = node.prims[i];
-                child[c].flat_axes[index] = flat_axes_of(straddler_bounds[2 * j + c]);
+                if (perfect) {
+                    child[c].flat_axes[index] = flat_axes_of(straddler_bounds[2 * j + c]);
+                } else {
+                    child[c].flat_axes[index] = node.flat_axes[i];
+                    dest[i][c] = index << 2 | 1u;
+                }
             }
         }
 
-        // Per axis and child: the kept events, filtered in order, go to the tail of the child's
-        // list; the straddlers' fresh events are written, sorted and merged in front of them.
+        // Per axis and child: the events taken from the node's list, filtered in order. On the
+        // split axis, the events below the plane go only below and those above only above, and
+        // without perfect splits the straddlers' new ends and starts at the plane go in between;
+        // with perfect splits, the fresh events are written, sorted and merged in front.
         const std::span<Event> fresh_space = scratch.temp.allocate<Event>(fresh_total);
         const bool parallel = n >= kParallelAxesFrom;
         const std::span<Event> sort_space = scratch.temp.allocate<Event>((parallel ? 3 : 1) * sort_size);
+        const std::array<std::uint32_t, 2> keep{lists[0], lists[1]};
         for_each_axis(parallel, [&](int axis) {
-            Event* out[2] = {child[0].events[axis].data() + fresh_size[0][axis],
-                             child[1].events[axis].data() + fresh_size[1][axis]};
-            for (const Event& e : node.events[axis]) {
-                const std::uint32_t d = dest[e.prim()];
-                const Event moved{e.position, (d & ~3u) | (e.prim_type & 3u)};
-                *out[0] = moved;
-                *out[1] = moved;
-                out[0] += d & 1u;
-                out[1] += (d >> 1) & 1u;
+            Event sink[2];  // where a child without lists gets its events
+            std::array<Event*, 2> out{};
+            for (int c = 0; c < 2; ++c)
+                out[c] = lists[c] ? child[c].events[axis].data() + fresh_size[c][axis] : sink;
+            const std::span<const Event> events = node.events[axis];
+            if (axis != k) {
+                filter_events<2>(events, dest, keep, out);
+            } else {
+                const auto first_planar = std::size_t(
+                    std::lower_bound(events.begin(), events.end(), Event::make(p, 0, EventType::planar), kd::event_before) -
+                    events.begin());
+                const auto first_start = std::size_t(
+                    std::lower_bound(events.begin() + std::ptrdiff_t(first_planar), events.end(),
+                                     Event::make(p, 0, EventType::start), kd::event_before) -
+                    events.begin());
+                // Below: events before the plane, ends on it; [straddlers' ends]; planars on it.
+                filter_events<0>(events.first(first_planar), dest, keep, out);
+                if (!perfect && lists[0])
+                    for (std::size_t j = 0; j < straddler_count; ++j)
+                        *out[0]++ = Event::make(p, std::uint32_t(kept_count[0] + j), EventType::end);
+                filter_events<0>(events.subspan(first_planar, first_start - first_planar), dest, keep, out);
+                // Above: planars on the plane; [straddlers' starts]; starts on it, events after it.
+                filter_events<1>(events.subspan(first_planar, first_start - first_planar), dest, keep, out);
+                if (!perfect && lists[1])
+                    for (std::size_t j = 0; j < straddler_count; ++j)
+                        *out[1]++ = Event::make(p, std::uint32_t(kept_count[1] + j), EventType::start);
+                filter_events<1>(events.subspan(first_start), dest, keep, out);
             }
-            if (straddler_count == 0) return;
+            if (!perfect || straddler_count == 0) return;
             const std::span<Event> sort_scratch = sort_space.subspan((parallel ? axis : 0) * sort_size, sort_size);
             std::size_t fresh_at = 0;
             for (int c = 0; c < 2; ++c) {

@@ -169,6 +169,27 @@ TEST_CASE("every triangle is referenced by every leaf whose cell it overlaps") {
     }
 }
 
+TEST_CASE("children that are leaves at once (size or depth) get no event lists, and the tree stays whole") {
+    // The builder skips the event lists of a child with at most leaf_triangles triangles or at the
+    // depth limit; its siblings' lists must still come out complete and sorted.
+    const Mesh mesh = random_soup(500, 33, 0.2f);
+    for (const bool perfect : {false, true}) {
+        for (const std::size_t leaf_triangles : {std::size_t(1), std::size_t(3), std::size_t(8)}) {
+            for (const int max_depth : {3, 7, -1}) {
+                CAPTURE(perfect);
+                CAPTURE(leaf_triangles);
+                CAPTURE(max_depth);
+                KdTreeOptions options = with_perfect_splits(perfect);
+                options.leaf_triangles = leaf_triangles;
+                options.max_depth = max_depth;
+                const KdTree tree = KdTree::build(mesh, options);
+                check_layout(tree, mesh.triangle_count(), options.depth_limit(mesh.triangle_count()));
+                check_references(tree, mesh, perfect, 1e-5);
+            }
+        }
+    }
+}
+
 TEST_CASE("perfect splits lower the SAH cost of a soup of large triangles") {
     // Large triangles straddle many planes; clipping drops them from cells they miss although
     // their bounding boxes overlap them.
