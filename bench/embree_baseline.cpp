@@ -3,6 +3,7 @@
 #if TRIDENT_HAVE_EMBREE
 
 #include <fmt/format.h>
+#include <tbb/blocked_range.h>
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 
@@ -120,6 +121,81 @@ void trace_packets(RTCScene scene, const Camera& camera, std::span<Hit> hits) {
     });
 }
 
+// ---- Secondary rays (issue 9): a list of rays, any-hit or closest hit -------------------------
+
+template <int Width>
+struct OccludedCall;
+template <>
+struct OccludedCall<4> {
+    using Rays = RTCRay4;
+    static void call(const int* v, RTCScene s, RTCIntersectContext* c, Rays* r) { rtcOccluded4(v, s, c, r); }
+};
+template <>
+struct OccludedCall<8> {
+    using Rays = RTCRay8;
+    static void call(const int* v, RTCScene s, RTCIntersectContext* c, Rays* r) { rtcOccluded8(v, s, c, r); }
+};
+template <>
+struct OccludedCall<16> {
+    using Rays = RTCRay16;
+    static void call(const int* v, RTCScene s, RTCIntersectContext* c, Rays* r) { rtcOccluded16(v, s, c, r); }
+};
+
+constexpr std::size_t kStreamChunk = 1024;  // rays per parallel task, as our ray streams
+
+bool has_work(const Ray& ray) { return ray.tmax > ray.tmin; }
+
+/// rtcOccluded1 per ray; Embree marks an occluded ray by setting tfar to -inf.
+void occluded_single(RTCScene scene, std::span<const Ray> rays, std::span<std::uint8_t> out) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), kStreamChunk), [&](const auto& range) {
+        RTCIntersectContext context = coherent_context();
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            const Ray& ray = rays[i];
+            if (!has_work(ray)) {
+                out[i] = 0;
+                continue;
+            }
+            RTCRay r{};
+            r.org_x = ray.origin.x, r.org_y = ray.origin.y, r.org_z = ray.origin.z;
+            r.dir_x = ray.dir.x, r.dir_y = ray.dir.y, r.dir_z = ray.dir.z;
+            r.tnear = ray.tmin;
+            r.tfar = ray.tmax;
+            r.mask = ~0u;
+            rtcOccluded1(scene, &context, &r);
+            out[i] = r.tfar < 0.0f;
+        }
+    });
+}
+
+/// rtcOccludedN over consecutive rays (the list is in primary-packet order), untraced rays off.
+template <int Width>
+void occluded_packets(RTCScene scene, std::span<const Ray> rays, std::span<std::uint8_t> out) {
+    using Call = OccludedCall<Width>;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), kStreamChunk), [&](const auto& range) {
+        RTCIntersectContext context = coherent_context();
+        for (std::size_t first = range.begin(); first < range.end(); first += Width) {
+            alignas(64) int valid[Width];
+            alignas(64) typename Call::Rays r{};
+            for (int lane = 0; lane < Width; ++lane) {
+                const std::size_t i = first + std::size_t(lane);
+                valid[lane] = i < range.end() && has_work(rays[i]) ? -1 : 0;
+                if (!valid[lane]) continue;
+                const Ray& ray = rays[i];
+                r.org_x[lane] = ray.origin.x, r.org_y[lane] = ray.origin.y, r.org_z[lane] = ray.origin.z;
+                r.dir_x[lane] = ray.dir.x, r.dir_y[lane] = ray.dir.y, r.dir_z[lane] = ray.dir.z;
+                r.tnear[lane] = ray.tmin;
+                r.tfar[lane] = ray.tmax;
+                r.mask[lane] = ~0u;
+            }
+            Call::call(valid, scene, &context, &r);
+            for (int lane = 0; lane < Width; ++lane) {
+                const std::size_t i = first + std::size_t(lane);
+                if (i < range.end()) out[i] = valid[lane] && r.tfar[lane] < 0.0f;
+            }
+        }
+    });
+}
+
 }  // namespace
 
 EmbreeDevice::EmbreeDevice(int threads) {
@@ -198,6 +274,44 @@ void EmbreeScene::trace(const Camera& camera, int packet_width, std::span<Hit> h
             return trace_packets<16>(scene_, camera, hits);
     }
     throw std::invalid_argument(fmt::format("Embree has no packet width {}", packet_width));
+}
+
+void EmbreeScene::occluded(std::span<const Ray> rays, int packet_width, std::span<std::uint8_t> occluded) const {
+    switch (packet_width) {
+        case 1:
+            return occluded_single(scene_, rays, occluded);
+        case 4:
+            return occluded_packets<4>(scene_, rays, occluded);
+        case 8:
+            return occluded_packets<8>(scene_, rays, occluded);
+        case 16:
+            return occluded_packets<16>(scene_, rays, occluded);
+    }
+    throw std::invalid_argument(fmt::format("Embree has no packet width {}", packet_width));
+}
+
+void EmbreeScene::intersect(std::span<const Ray> rays, std::span<Hit> hits) const {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), kStreamChunk), [&](const auto& range) {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            const Ray& ray = rays[i];
+            if (!has_work(ray)) {
+                hits[i] = Hit{};
+                continue;
+            }
+            RTCRayHit rayhit{};
+            rayhit.ray.org_x = ray.origin.x, rayhit.ray.org_y = ray.origin.y, rayhit.ray.org_z = ray.origin.z;
+            rayhit.ray.dir_x = ray.dir.x, rayhit.ray.dir_y = ray.dir.y, rayhit.ray.dir_z = ray.dir.z;
+            rayhit.ray.tnear = ray.tmin;
+            rayhit.ray.tfar = ray.tmax;
+            rayhit.ray.mask = ~0u;
+            rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+            rtcIntersect1(scene_, &context, &rayhit);
+            hits[i] = to_hit(rayhit.hit.geomID, rayhit.hit.primID, rayhit.ray.tfar, rayhit.hit.u, rayhit.hit.v);
+        }
+    });
 }
 
 }  // namespace trident::bench

@@ -29,6 +29,8 @@ inline constexpr bool kHaveEmbree = false;
 
 /// "rtcIntersect1", "rtcIntersect4", ...: the Embree call of a packet width (1: one ray).
 inline std::string embree_call_name(int packet_width) { return "rtcIntersect" + std::to_string(packet_width); }
+/// "rtcOccluded1", "rtcOccluded4", ...: the any-hit call of a packet width (shadow rays).
+inline std::string embree_occluded_name(int packet_width) { return "rtcOccluded" + std::to_string(packet_width); }
 
 /// The Embree row a traversal of ours is compared with: rtcIntersect1 for scalar, rtcIntersectN
 /// for simdN (one ray against one ray, packets against packets of the same width).
@@ -76,6 +78,12 @@ public:
     /// rtcIntersect4 / 8 / 16 over 2x2 / 4x2 / 4x4 pixel blocks, lanes past the image edge
     /// switched off in the valid mask. Blocks are spread over the calling thread pool.
     void trace(const Camera& camera, int packet_width, std::span<Hit> hits) const;
+    /// Any-hit of each ray (shadow rays): rtcOccluded1 per ray for packet_width 1, else
+    /// rtcOccluded4 / 8 / 16 over consecutive rays (coherent context: the list keeps neighbouring
+    /// pixels together). Rays with tmax <= tmin are not traced (0).
+    void occluded(std::span<const Ray> rays, int packet_width, std::span<std::uint8_t> occluded) const;
+    /// Closest hit of each ray with rtcIntersect1 (diffuse rays: incoherent context).
+    void intersect(std::span<const Ray> rays, std::span<Hit> hits) const;
 
 private:
     void build(const EmbreeDevice& device, const Mesh& mesh);  // fills and commits scene_

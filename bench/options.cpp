@@ -16,7 +16,8 @@ namespace {
 
 /// The options as typed; resolve() checks them and turns them into BenchOptions.
 struct Arguments {
-    std::vector<std::string> scenes, only, accel, simd, threads, embree;
+    std::vector<std::string> scenes, only, accel, simd, threads, embree, triangle_tests, slabs;
+    std::vector<std::string> rays;
     std::optional<std::filesystem::path> manifest, reference_hits, dump_hits, csv, json, markdown;
     std::optional<std::string> sweep;
     std::string reference = "auto";
@@ -75,6 +76,34 @@ std::vector<Traversal> resolve_traversals(const std::vector<std::string>& names)
     }
     if (traversals.empty()) traversals.push_back(Traversal::scalar);
     return traversals;
+}
+
+std::vector<TriangleTest> resolve_triangle_tests(const std::vector<std::string>& names) {
+    std::vector<TriangleTest> tests;
+    for (const std::string& name : names) {
+        if (name == to_string(TriangleTest::watertight))
+            push_unique(tests, TriangleTest::watertight);
+        else if (name == to_string(TriangleTest::moller_trumbore))
+            push_unique(tests, TriangleTest::moller_trumbore);
+        else
+            refuse(fmt::format("--triangle-test {}: expected watertight or moller_trumbore", name));
+    }
+    if (tests.empty()) tests.push_back(TriangleTest::watertight);
+    return tests;
+}
+
+std::vector<SlabTest> resolve_slab_tests(const std::vector<std::string>& names) {
+    std::vector<SlabTest> slabs;
+    for (const std::string& name : names) {
+        if (name == to_string(SlabTest::robust))
+            push_unique(slabs, SlabTest::robust);
+        else if (name == to_string(SlabTest::fast))
+            push_unique(slabs, SlabTest::fast);
+        else
+            refuse(fmt::format("--slabs {}: expected robust or fast", name));
+    }
+    if (slabs.empty()) slabs.push_back(SlabTest::robust);
+    return slabs;
 }
 
 std::vector<int> resolve_threads(const std::vector<std::string>& texts) {
@@ -140,6 +169,17 @@ ReferenceChoice resolve_reference(const Arguments& args) {
     return choice;
 }
 
+std::vector<RayKind> resolve_ray_kinds(const std::vector<std::string>& names) {
+    std::vector<RayKind> kinds;
+    for (const std::string& name : names) {
+        const auto kind = parse_ray_kind(name);
+        if (!kind) refuse(fmt::format("--rays {}: expected primary, shadow or diffuse", name));
+        push_unique(kinds, *kind);
+    }
+    if (kinds.empty()) kinds.push_back(RayKind::primary);
+    return kinds;
+}
+
 BenchOptions resolve(const Arguments& args, const CLI::App& app) {
     BenchOptions options;
     if (args.width < 1 || args.height < 1 || args.width > kMaxImageSide || args.height > kMaxImageSide)
@@ -157,6 +197,11 @@ BenchOptions resolve(const Arguments& args, const CLI::App& app) {
         options.structures = resolve_structures(args.accel);
     }
     options.traversals = resolve_traversals(args.simd);
+    options.triangle_tests = resolve_triangle_tests(args.triangle_tests);
+    options.slab_tests = resolve_slab_tests(args.slabs);
+    options.ray_kinds = resolve_ray_kinds(args.rays);
+    if (options.sweep && options.ray_kinds != std::vector<RayKind>{RayKind::primary})
+        refuse("--sweep times primary rays only: leave out --rays");
     options.threads = resolve_threads(args.threads);
     options.embree_packet_widths = resolve_embree(args.embree, app.count("--embree") > 0);
     options.reference = resolve_reference(args);
@@ -183,6 +228,14 @@ void add_options(CLI::App& app, Arguments& args) {
         ->delimiter(',');
     app.add_option("--simd", args.simd,
                    "traversals, comma separated: scalar,simd4,simd8,simd16 or auto (default scalar)")
+        ->delimiter(',');
+    app.add_option("--triangle-test", args.triangle_tests,
+                   "triangle tests, comma separated: watertight,moller_trumbore (default watertight)")
+        ->delimiter(',');
+    app.add_option("--rays", args.rays,
+                   "ray kinds to time, comma separated: primary,shadow,diffuse (default primary)")
+        ->delimiter(',');
+    app.add_option("--slabs", args.slabs, "box tests of the traversals, comma separated: robust,fast (default robust)")
         ->delimiter(',');
     app.add_option("--threads", args.threads,
                    "thread counts, comma separated, or 'all' (default: all hardware threads)")

@@ -8,8 +8,11 @@
 #include <vector>
 
 #include "accel/any_accel.h"
+#include "bench/ray_sets.h"
 #include "bench/sweep.h"
 #include "bench/traversal.h"
+#include "core/intersect_triangle.h"
+#include "core/slab_test.h"
 
 namespace trident::bench {
 
@@ -39,6 +42,9 @@ struct BenchOptions {
     std::vector<std::string> only;                  // --only: names to keep
     std::vector<AccelKind> structures;
     std::vector<Traversal> traversals;
+    std::vector<TriangleTest> triangle_tests;  // --triangle-test (default watertight)
+    std::vector<SlabTest> slab_tests;          // --slabs (default robust)
+    std::vector<RayKind> ray_kinds;            // --rays (default primary only)
     std::vector<int> threads;
     std::vector<int> embree_packet_widths;  // empty: no Embree rows
     std::uint32_t width = 1920, height = 1080;

@@ -194,6 +194,8 @@ def main():
             report = json.load(f)
     except (OSError, ValueError) as e:
         sys.exit("plot.py: {}: {}".format(args.json, e))
+    # The charts are about primary rays; shadow and diffuse rows (--rays) are in the tables.
+    report["rows"] = [r for r in report.get("rows", []) if r.get("rays", "primary") == "primary"]
     os.makedirs(args.out, exist_ok=True)
     written = []
     per_structure_chart(report, args.out, written, "build_time.png", "build time, ms",

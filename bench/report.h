@@ -29,6 +29,9 @@ struct BenchRow {
 
     std::string structure;  // "bvh", "kdtree", "octree", "brute" or "embree"
     std::string traversal;  // ours: scalar / simd4 / simd8 / simd16; Embree: rtcIntersect1 / 4 / 8 / 16
+    std::string triangle_test, slabs;  // ours: watertight / moller_trumbore, robust / fast; Embree: empty
+    std::string ray_kind = "primary";  // the ray kind timed: primary, shadow or diffuse (bench/ray_sets.h)
+    std::size_t ray_count = 0;         // rays traced per render when not W x H (secondary rays)
     int threads = 0;
     std::uint32_t width = 0, height = 0;
     int repeats = 0;
@@ -48,7 +51,7 @@ struct BenchRow {
     std::optional<double> sweep_value;
     std::string note;
 
-    double rays() const { return double(width) * double(height); }
+    double rays() const { return ray_count ? double(ray_count) : double(width) * double(height); }
     /// Mrays/s of a render time: W * H / time.
     double mrays_per_s(double render_ms_value) const {
         return render_ms_value > 0 ? rays() / render_ms_value / 1000.0 : 0.0;
@@ -67,7 +70,8 @@ struct BenchReport {
     std::uint32_t width = 0, height = 0;
     int repeats = 0;
     std::vector<int> threads;
-    std::string triangle_test;
+    std::string triangle_test;  // the triangle tests measured, comma separated
+    std::string slabs;          // the slab tests measured, comma separated
     std::string reference;                    // the reference the run chose; rows say where a scene differs
     std::string embree_settings;              // empty without Embree rows
     std::string sweep_name, sweep_parameter;  // empty unless --sweep

@@ -12,11 +12,14 @@
 #include "accel/any_accel.h"
 #include "bench/embree_baseline.h"
 #include "bench/progress.h"
+#include "bench/ray_sets.h"
 #include "bench/reference.h"
 #include "bench/scene_selection.h"
 #include "bench/statistics.h"
 #include "camera/camera.h"
 #include "render/hit_buffer.h"
+#include "render/ray_stream.h"
+#include "render/render_plan.h"
 #include "render/trace.h"
 #include "scene/scene_source.h"
 
@@ -44,6 +47,11 @@ std::vector<StructureConfig> structure_configs(const BenchOptions& options) {
     return configs;
 }
 
+/// Triangle test x slab test pairs measured per structure and traversal (issue 8's grid).
+std::size_t variant_count(const BenchOptions& options) {
+    return options.triangle_tests.size() * options.slab_tests.size();
+}
+
 bool runs_embree(const BenchOptions& options) { return !options.sweep && !options.embree_packet_widths.empty(); }
 
 /// Our Mrays/s over Embree's on the same scene, rays and thread count; scalar rows compare with
@@ -53,9 +61,13 @@ void fill_ratios_to_embree(std::span<BenchRow> rows) {
         if (row.is_embree()) continue;
         const auto traversal = parse_traversal(row.traversal);
         if (!traversal) continue;
-        const std::string counterpart = embree_counterpart(*traversal);
+        // Shadow rows compare with rtcOccludedN of the same width, diffuse rows with rtcIntersect1.
+        const std::string counterpart = row.ray_kind == to_string(RayKind::shadow)    ? embree_occluded_name(rays_per_call(*traversal))
+                                        : row.ray_kind == to_string(RayKind::diffuse) ? embree_call_name(1)
+                                                                                  : embree_counterpart(*traversal);
         for (const BenchRow& embree : rows)
             if (embree.is_embree() && embree.threads == row.threads && embree.traversal == counterpart &&
+                embree.ray_kind == row.ray_kind &&
                 embree.mrays_per_s() > 0)
                 row.ratio_to_embree = row.mrays_per_s() / embree.mrays_per_s();
     }
@@ -69,7 +81,7 @@ public:
           scenes_(select_scenes(options)),
           progress_(scenes_.size() * options.threads.size() *
                         ((runs_embree(options) ? options.embree_packet_widths.size() : 0) +
-                         configs_.size() * options.traversals.size()),
+                         configs_.size() * options.traversals.size() * variant_count(options)),
                     options.quiet) {}
 
     BenchReport run() {
@@ -88,7 +100,10 @@ private:
         report_.height = options_.height;
         report_.repeats = options_.repeats;
         report_.threads = options_.threads;
-        report_.triangle_test = to_string(TriangleTest::watertight);
+        for (TriangleTest test : options_.triangle_tests)
+            report_.triangle_test += fmt::format("{}{}", report_.triangle_test.empty() ? "" : ", ", to_string(test));
+        for (SlabTest slabs : options_.slab_tests)
+            report_.slabs += fmt::format("{}{}", report_.slabs.empty() ? "" : ", ", to_string(slabs));
         report_.reference = describe_reference(options_.reference);
 #if TRIDENT_HAVE_EMBREE
         if (runs_embree(options_)) report_.embree_settings = kEmbreeSettings;
@@ -109,6 +124,11 @@ private:
         if (reference.description != report_.reference)
             report_.notes.push_back(fmt::format("{}: reference {}", loaded.scene.name, reference.description));
         hits_.assign(std::size_t(camera.width()) * camera.height(), Hit{});
+        if (asks(RayKind::shadow) || asks(RayKind::diffuse)) {
+            progress_.show(fmt::format("{}: making shadow and diffuse rays", loaded.scene.name));
+            ray_sets_ = make_scene_ray_sets(loaded.scene, camera, options_.ray_kinds);
+            report_.notes.insert(report_.notes.end(), ray_sets_.notes.begin(), ray_sets_.notes.end());
+        }
 
         const std::size_t first_row = report_.rows.size();
         for (int threads : options_.threads) {
@@ -180,6 +200,7 @@ private:
             return scene->build_ms();
         });
         for (int width : options_.embree_packet_widths) {
+            if (!asks(RayKind::primary)) break;
             BenchRow row = start_row(run, kEmbreeStructure, embree_call_name(width));
             row.build_ms = build;
             row.render_ms = time_renders(fmt::format("{} {}", what, row.traversal),
@@ -188,7 +209,72 @@ private:
             row.note = kEmbreeSettings;
             finish_row(run, std::move(row), fmt::format("embree.{}", embree_call_name(width)));
         }
+        for (int width : options_.embree_packet_widths) {  // shadow rays: rtcOccluded1 / 4 / 8 / 16
+            if (!asks(RayKind::shadow)) break;
+            BenchRow row = start_row(run, kEmbreeStructure, embree_occluded_name(width));
+            row.build_ms = build;
+            occluded_.resize(ray_sets_.shadow.rays.size());
+            row.render_ms = time_renders(fmt::format("{} {} shadow", what, row.traversal),
+                                         [&] { scene->occluded(ray_sets_.shadow.rays, width, occluded_); });
+            finish_secondary_row(std::move(row), RayKind::shadow, scene->bytes());
+        }
+        if (asks(RayKind::diffuse)) {  // diffuse rays: rtcIntersect1
+            BenchRow row = start_row(run, kEmbreeStructure, embree_call_name(1));
+            row.build_ms = build;
+            secondary_hits_.resize(ray_sets_.diffuse.rays.size());
+            row.render_ms = time_renders(fmt::format("{} {} diffuse", what, row.traversal),
+                                         [&] { scene->intersect(ray_sets_.diffuse.rays, secondary_hits_); });
+            finish_secondary_row(std::move(row), RayKind::diffuse, scene->bytes());
+        }
 #endif
+    }
+
+    bool asks(RayKind kind) const {
+        return std::find(options_.ray_kinds.begin(), options_.ray_kinds.end(), kind) != options_.ray_kinds.end();
+    }
+
+    /// A shadow or diffuse row: Mrays/s over the rays traced; no hit-buffer error (the error
+    /// columns are about primary rays). Not counted in the progress total.
+    void finish_secondary_row(BenchRow row, RayKind kind, std::optional<std::size_t> bytes) {
+        row.ray_kind = to_string(kind);
+        if (!row.is_embree()) {  // our secondary rays use the default tests
+            row.triangle_test = to_string(TriangleTest::watertight);
+            row.slabs = to_string(SlabTest::robust);
+        }
+        row.ray_count = kind == RayKind::shadow ? ray_sets_.shadow_traced : ray_sets_.diffuse_traced;
+        row.bytes = bytes;
+        row.reference.clear();
+        if (row.is_embree()) row.note = kEmbreeSettings;
+        report_.rows.push_back(std::move(row));
+    }
+
+    /// Our shadow and diffuse rows for one structure and traversal (default triangle and slab tests):
+    /// shadow rays as packets in primary-packet order, diffuse rays as incoherent_traversal() says.
+    void run_secondary_rows(const SceneRun& run, const StructureConfig& config, const AnyAccel& accel,
+                            const Summary& build, Traversal traversal, const std::string& what) {
+        const SimdWidth width = simd_width(traversal);
+        if (asks(RayKind::shadow)) {
+            BenchRow row = start_row(run, to_string(config.kind), to_string(traversal));
+            row.build_ms = build;
+            occluded_.resize(ray_sets_.shadow.rays.size());
+            const StreamTraversal shadow{width, PacketGrouping::in_order};
+            row.render_ms = time_renders(fmt::format("{} {} shadow", what, row.traversal), [&] {
+                occlude_stream_parallel(accel, ray_sets_.shadow.rays, occluded_, shadow);
+            });
+            finish_secondary_row(std::move(row), RayKind::shadow, accel.stats().bytes);
+        }
+        if (asks(RayKind::diffuse)) {
+            BenchRow row = start_row(run, to_string(config.kind), to_string(traversal));
+            row.build_ms = build;
+            secondary_hits_.resize(ray_sets_.diffuse.rays.size());
+            // Each row times exactly its traversal; the renderer's pick per structure is incoherent_traversal().
+            const StreamTraversal diffuse{width, PacketGrouping::by_octant};
+            if (width != SimdWidth::scalar) row.note = fmt::format("packets {}", to_string(diffuse.grouping));
+            row.render_ms = time_renders(fmt::format("{} {} diffuse", what, row.traversal), [&] {
+                intersect_stream_parallel(accel, ray_sets_.diffuse.rays, secondary_hits_, diffuse);
+            });
+            finish_secondary_row(std::move(row), RayKind::diffuse, accel.stats().bytes);
+        }
     }
 
     void run_structure(const SceneRun& run, const StructureConfig& config) {
@@ -198,7 +284,8 @@ private:
                 report_.notes.push_back(fmt::format(
                     "brute refused on {}: {} triangles is over {} (W x H x N triangle tests would take hours)",
                     scene_name, run.loaded.scene.mesh.triangle_count(), kBruteMaxTriangles));
-            for (std::size_t i = 0; i < options_.traversals.size(); ++i) progress_.configuration_done();
+            for (std::size_t i = 0; i < options_.traversals.size() * variant_count(options_); ++i)
+                progress_.configuration_done();
             return;
         }
         std::string label = to_string(config.kind);
@@ -212,37 +299,55 @@ private:
             accel.emplace(AnyAccel::build(config.kind, run.loaded.scene.mesh, config.options));
             return accel->stats().build_ms;
         });
-        const AccelStats& stats = accel->stats();
-
         for (Traversal traversal : options_.traversals) {
             if (!has_packet_traversal(*accel, simd_width(traversal))) {
                 skip_traversal(run, config.kind, traversal);
                 continue;
             }
-            BenchRow row = start_row(run, to_string(config.kind), to_string(traversal));
-            row.build_ms = build;
-            row.render_ms = time_renders(fmt::format("{} {}", what, row.traversal), [&] {
-                trace_primary(*accel, run.camera, hits_, TriangleTest::watertight, simd_width(traversal));
-            });
-            row.nodes = stats.nodes;
-            row.leaves = stats.leaves;
-            row.max_depth = stats.max_depth;
-            row.sah_cost = stats.sah_cost;
-            row.bytes = stats.bytes;
-            // count_primary traces single rays: packet rows leave the per-ray counts empty.
-            if (traversal == Traversal::scalar) {
-                progress_.show(fmt::format("{} {}: counting", what, row.traversal));
-                TraversalCounters total;
-                for (const TraversalCounters& counters : count_primary(*accel, run.camera)) total += counters;
-                row.nodes_per_ray = double(total.nodes_visited) / row.rays();
-                row.triangles_per_ray = double(total.triangles_tested) / row.rays();
-            }
-            if (config.sweep_value) {
-                row.sweep_parameter = options_.sweep->parameter;
-                row.sweep_value = config.sweep_value;
-            }
-            finish_row(run, std::move(row), fmt::format("{}.{}", label, to_string(traversal)));
+            if (asks(RayKind::primary))
+                for (TriangleTest test : options_.triangle_tests)
+                    for (SlabTest slabs : options_.slab_tests)
+                        run_variant(run, config, *accel, build, traversal, test, slabs, what, label);
+            run_secondary_rows(run, config, *accel, build, traversal, what);
         }
+    }
+
+    /// One row: the structure traced at one traversal width with one triangle test and slab test.
+    void run_variant(const SceneRun& run, const StructureConfig& config, const AnyAccel& accel, const Summary& build,
+                     Traversal traversal, TriangleTest test, SlabTest slabs, const std::string& what_structure,
+                     const std::string& label) {
+        const AccelStats& stats = accel.stats();
+        BenchRow row = start_row(run, to_string(config.kind), to_string(traversal));
+        row.triangle_test = to_string(test);
+        row.slabs = to_string(slabs);
+        // The default variant keeps the plain labels (and hit-dump file names).
+        const bool default_variant = test == TriangleTest::watertight && slabs == SlabTest::robust;
+        const std::string variant = default_variant ? "" : fmt::format(".{}.{}", to_string(test), to_string(slabs));
+        const std::string what =
+            default_variant ? what_structure
+                            : fmt::format("{} ({}, {} slabs)", what_structure, to_string(test), to_string(slabs));
+        row.build_ms = build;
+        row.render_ms = time_renders(fmt::format("{} {}", what, row.traversal), [&] {
+            trace_primary(accel, run.camera, hits_, test, simd_width(traversal), slabs);
+        });
+        row.nodes = stats.nodes;
+        row.leaves = stats.leaves;
+        row.max_depth = stats.max_depth;
+        row.sah_cost = stats.sah_cost;
+        row.bytes = stats.bytes;
+        // count_primary traces single rays: packet rows leave the per-ray counts empty.
+        if (traversal == Traversal::scalar) {
+            progress_.show(fmt::format("{} {}: counting", what, row.traversal));
+            TraversalCounters total;
+            for (const TraversalCounters& counters : count_primary(accel, run.camera, test, slabs)) total += counters;
+            row.nodes_per_ray = double(total.nodes_visited) / row.rays();
+            row.triangles_per_ray = double(total.triangles_tested) / row.rays();
+        }
+        if (config.sweep_value) {
+            row.sweep_parameter = options_.sweep->parameter;
+            row.sweep_value = config.sweep_value;
+        }
+        finish_row(run, std::move(row), fmt::format("{}.{}{}", label, to_string(traversal), variant));
     }
 
     /// A structure without a packet traversal of that width yet: named once in the notes.
@@ -252,7 +357,7 @@ private:
         if (run.threads == options_.threads.front() &&
             std::find(report_.notes.begin(), report_.notes.end(), note) == report_.notes.end())
             report_.notes.push_back(note);
-        progress_.configuration_done();
+        for (std::size_t i = 0; i < variant_count(options_); ++i) progress_.configuration_done();
     }
 
     const BenchOptions& options_;
@@ -261,6 +366,9 @@ private:
     Progress progress_;
     BenchReport report_;
     std::vector<Hit> hits_;  // one image of hits, reused by every trace
+    SceneRaySets ray_sets_;                 // the scene's shadow and diffuse rays (--rays)
+    std::vector<std::uint8_t> occluded_;    // shadow results, reused
+    std::vector<Hit> secondary_hits_;       // diffuse results, reused
 };
 
 }  // namespace

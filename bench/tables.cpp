@@ -10,6 +10,8 @@
 
 #include "bench/embree_baseline.h"
 #include "bench/traversal.h"
+#include "core/intersect_triangle.h"
+#include "core/slab_test.h"
 
 namespace trident::bench {
 namespace {
@@ -71,15 +73,24 @@ struct TableKey {
     std::string scene;
     std::size_t triangles;
     int threads;
-    std::string traversal;
+    std::string traversal, triangle_test, slabs;
+    std::string rays = "primary";  // the ray kind (--rays): shadow and diffuse rows are named so
     bool operator==(const TableKey&) const = default;
+
+    /// The traversal as the tables show it: the variant named when it is not the default.
+    std::string traversal_label() const {
+        const std::string kind = rays == "primary" ? "" : rays + " ";
+        if (triangle_test == to_string(TriangleTest::watertight) && slabs == to_string(SlabTest::robust))
+            return kind + traversal;
+        return fmt::format("{}{} {} {}", kind, traversal, triangle_test, slabs);
+    }
 };
 
 std::vector<TableKey> table_keys(const BenchReport& report) {
     std::vector<TableKey> keys;
     for (const BenchRow& row : report.rows) {
         if (row.is_embree()) continue;
-        const TableKey key{row.scene, row.triangles, row.threads, row.traversal};
+        const TableKey key{row.scene, row.triangles, row.threads, row.traversal, row.triangle_test, row.slabs, row.ray_kind};
         if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
     }
     return keys;
@@ -90,11 +101,14 @@ const BenchRow* find_row(const BenchReport& report, const TableKey& key, const s
     if (structure == kEmbreeStructure) {
         const auto ours = parse_traversal(key.traversal);
         if (!ours) return nullptr;
-        traversal = embree_counterpart(*ours);
+        traversal = key.rays == "shadow"    ? embree_occluded_name(rays_per_call(*ours))
+                    : key.rays == "diffuse" ? embree_call_name(1)
+                                            : embree_counterpart(*ours);
     }
     for (const BenchRow& row : report.rows)
         if (row.scene == key.scene && row.threads == key.threads && row.structure == structure &&
-            row.traversal == traversal)
+            row.traversal == traversal && row.ray_kind == key.rays &&
+            (row.is_embree() || (row.triangle_test == key.triangle_test && row.slabs == key.slabs)))
             return &row;
     return nullptr;
 }
@@ -117,7 +131,8 @@ std::vector<std::string> report_header_lines(const BenchReport& report) {
         repeats +=
             fmt::format(" (fewer than the {} BENCHMARK.md asks for: not figures for the record)", kRecommendedRepeats);
     lines.push_back(repeats);
-    lines.push_back(fmt::format("triangle test: {}; error reference: {}", report.triangle_test, report.reference));
+    lines.push_back(fmt::format("triangle test: {}; slab test: {}; error reference: {}", report.triangle_test,
+                                report.slabs, report.reference));
     if (!report.embree_settings.empty())
         lines.push_back(fmt::format("Embree {}: {}; device threads = the run's thread count", m.embree_version,
                                     report.embree_settings));
@@ -177,14 +192,16 @@ TextTable study_table(const BenchReport& report) {
                                        RowFigure([](const BenchRow& r) { return figure(r.mrays_per_s()); })})
             for (std::string& cell : per_structure(structures, value)) cells.push_back(std::move(cell));
         cells.push_back(fmt::format("{}", key.threads));
-        cells.push_back(key.traversal);
+        cells.push_back(key.traversal_label());
         for (const Group& group : groups)
             cells.push_back(
                 fmt::format("{}", fmt::join(per_structure(group.with_embree ? structures : ours, group.value), "/")));
         table.rows.push_back(std::move(cells));
     }
     if (has_structure(report, kEmbreeStructure))
-        table.footnotes.push_back("Embree columns: rtcIntersect1 beside scalar rows, rtcIntersectN beside simdN rows.");
+        table.footnotes.push_back(
+            "Embree columns: rtcIntersect1 beside scalar rows, rtcIntersectN beside simdN rows; for shadow rows "
+            "rtcOccluded1 / rtcOccludedN, for diffuse rows rtcIntersect1.");
     table.footnotes.push_back(fmt::format("Errors against {}.", report.reference));
     return table;
 }
@@ -193,14 +210,20 @@ TextTable configurations_table(const BenchReport& report) {
     TextTable table;
     table.title = "Every configuration (times in ms: median, then min..max)";
     const bool sweep = !report.sweep_name.empty();
-    table.header = {"scene", "structure", "traversal", "threads"};
+    table.header = {"scene", "structure", "traversal", "triangle test", "slabs", "threads", "rays"};
     if (sweep) table.header.insert(table.header.end(), {report.sweep_name, "parameter"});
     table.header.insert(table.header.end(), {"build ms", "build range", "render ms", "render range", "Mrays/s", "nodes",
                                              "leaves", "depth", "SAH", "MiB", "B/tri", "nodes/ray", "tris/ray",
                                              "hit/miss %", "tri %", "max rel dt", "x Embree"});
     auto count = [](const std::optional<std::size_t>& n) { return n ? fmt::format("{}", *n) : std::string(kNone); };
     for (const BenchRow& r : report.rows) {
-        std::vector<std::string> cells = {r.scene, r.structure, r.traversal, fmt::format("{}", r.threads)};
+        std::vector<std::string> cells = {r.scene,
+                                          r.structure,
+                                          r.traversal,
+                                          r.triangle_test.empty() ? kNone : r.triangle_test,
+                                          r.slabs.empty() ? kNone : r.slabs,
+                                          fmt::format("{}", r.threads),
+                                          r.ray_kind};
         if (sweep)
             cells.insert(cells.end(), {r.sweep_value ? fmt::format("{:g}", *r.sweep_value) : std::string(kNone),
                                        r.sweep_parameter.empty() ? kNone : r.sweep_parameter});
@@ -227,7 +250,7 @@ TextTable embree_ratio_table(const BenchReport& report) {
     table.header = {"scene", "threads", "traversal"};
     for (const std::string& s : ours) table.header.push_back(display_name(s));
     for (const TableKey& key : table_keys(report)) {
-        std::vector<std::string> cells = {key.scene, fmt::format("{}", key.threads), key.traversal};
+        std::vector<std::string> cells = {key.scene, fmt::format("{}", key.threads), key.traversal_label()};
         bool any = false;
         for (const std::string& s : ours) {
             const BenchRow* row = find_row(report, key, s);

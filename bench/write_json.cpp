@@ -52,6 +52,7 @@ void write_json(const BenchReport& report, const std::filesystem::path& path) {
         {"repeats_below_recommended", report.repeats_below_recommended()},
         {"threads", report.threads},
         {"triangle_test", report.triangle_test},
+        {"slabs", report.slabs},
         {"reference", report.reference},
         {"embree_settings",
          report.embree_settings.empty() ? nlohmann::json(nullptr) : nlohmann::json(report.embree_settings)},

@@ -1,12 +1,14 @@
 #pragma once
 // Every triangle against every ray, in single precision with the same triangle tests as the
 // trees: the baseline a structure must beat, and the smallest example of the structure interface
-// (build, intersect, occluded, stats).
+// (build, intersect, occluded, stats). It tests no boxes, so the slab-test flag the trees take
+// (core/slab_test.h) is accepted and changes nothing.
 #include <vector>
 
 #include "accel/accel_stats.h"
 #include "core/intersect_triangle.h"
 #include "core/mesh.h"
+#include "core/slab_test.h"
 #include "simd/packet.h"
 
 namespace trident {
@@ -15,7 +17,7 @@ class BruteForce {
 public:
     static BruteForce build(const Mesh& mesh);
 
-    template <TriangleTest Test, class Counters>
+    template <TriangleTest Test, SlabTest = SlabTest::robust, class Counters>
     Hit intersect(const Ray& ray, Counters& counters) const {
         const TriangleIntersector<Test> isect(ray);
         Hit best;
@@ -29,7 +31,7 @@ public:
         return best;
     }
 
-    template <TriangleTest Test, class Counters>
+    template <TriangleTest Test, SlabTest = SlabTest::robust, class Counters>
     bool occluded(const Ray& ray, Counters& counters) const {
         const TriangleIntersector<Test> isect(ray);
         TriangleHit h;
@@ -40,7 +42,7 @@ public:
         return false;
     }
 
-    template <TriangleTest Test, class Arch, class Counters>
+    template <TriangleTest Test, SlabTest = SlabTest::robust, class Arch, class Counters>
     void intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters) const {
         const auto isect = packet_intersector<Test>(rays);
         using Float = typename RayPacket<Arch>::Float;
@@ -51,7 +53,7 @@ public:
         }
     }
 
-    template <TriangleTest Test, class Arch, class Counters>
+    template <TriangleTest Test, SlabTest = SlabTest::robust, class Arch, class Counters>
     typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters) const {
         const auto isect = packet_intersector<Test>(rays);
         using Float = typename RayPacket<Arch>::Float;

@@ -4,8 +4,8 @@
 // reads three arrays and follows no pointers: the node array, the leaf-order corners, and the
 // leaf-order file ids.
 //
-// The traversal is one function with compile-time flags (closest or any hit, triangle test,
-// counters). It tests both children's boxes at an interior node with the robust slab test
+// The traversal is one function with compile-time flags (closest or any hit, triangle test, robust
+// or fast slab test, counters). It tests both children's boxes at an interior node with the slab test
 // (core/slab_test.h, three axes at once: node_box_test.h), goes to the near child first by the
 // sign of the ray direction on the node's split axis, and stacks the far one with its entry
 // distance, so that a popped node starting beyond the closest hit found meanwhile is skipped.
@@ -35,13 +35,13 @@ public:
     /// triangles cannot be numbered in 32 bits.
     static Bvh build(const Mesh& mesh, const BvhOptions& options = {});
 
-    template <TriangleTest Test, class Counters>
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Counters>
     Hit intersect(const Ray& ray, Counters& counters) const {
-        return traverse<false, Test>(ray, 0, counters);
+        return traverse<false, Test, Slabs>(ray, 0, counters);
     }
-    template <TriangleTest Test, class Counters>
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Counters>
     bool occluded(const Ray& ray, Counters& counters) const {
-        return traverse<true, Test>(ray, 0, counters).is_hit();
+        return traverse<true, Test, Slabs>(ray, 0, counters).is_hit();
     }
     Hit intersect(const Ray& ray) const {
         NoCounters c;
@@ -58,16 +58,16 @@ public:
     /// its t it may keep the other one (bvh_packet.h says when). Subtrees that at most
     /// SingleRayLanes lanes need are traced ray by ray; the default is the width's measured best.
     /// Counters count per packet (and per ray in the subtrees traced ray by ray).
-    template <TriangleTest Test, class Arch, class Counters,
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters,
               int SingleRayLanes = bvh::single_ray_lanes(RayPacket<Arch>::width)>
     void intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters) const {
-        traverse_packet<false, Test, SingleRayLanes>(rays, hits, counters);
+        traverse_packet<false, Test, Slabs, SingleRayLanes>(rays, hits, counters);
     }
-    template <TriangleTest Test, class Arch, class Counters,
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters,
               int SingleRayLanes = bvh::single_ray_lanes(RayPacket<Arch>::width)>
     typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters) const {
         HitPacket<Arch> limits(rays);
-        return traverse_packet<true, Test, SingleRayLanes>(rays, limits, counters);
+        return traverse_packet<true, Test, Slabs, SingleRayLanes>(rays, limits, counters);
     }
 
     const AccelStats& stats() const { return stats_; }
@@ -82,15 +82,17 @@ public:
 
 private:
     /// The single-ray traversal of the subtree at `subtree` (the root: 0).
-    template <bool AnyHit, TriangleTest Test, class Counters>
+    template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Counters>
     Hit traverse(const Ray& ray, std::uint32_t subtree, Counters& counters) const;
 
-    template <bool AnyHit, TriangleTest Test, int SingleRayLanes, class Arch, class Counters>
+    template <bool AnyHit, TriangleTest Test, SlabTest Slabs, int SingleRayLanes, class Arch, class Counters>
     typename RayPacket<Arch>::Mask traverse_packet(const RayPacket<Arch>& rays, HitPacket<Arch>& hits,
                                                    Counters& counters) const {
-        return bvh::traverse_packet<AnyHit, Test, SingleRayLanes>(
+        return bvh::traverse_packet<AnyHit, Test, Slabs, SingleRayLanes>(
             {nodes_, triangles_, triangle_ids_}, rays, hits,
-            [&](const Ray& ray, std::uint32_t subtree) { return traverse<AnyHit, Test>(ray, subtree, counters); },
+            [&](const Ray& ray, std::uint32_t subtree) {
+                return traverse<AnyHit, Test, Slabs>(ray, subtree, counters);
+            },
             counters);
     }
 
@@ -103,11 +105,11 @@ private:
 
 /// Counters: nodes_visited counts node boxes tested (the root's included), triangles_tested the
 /// triangle tests.
-template <bool AnyHit, TriangleTest Test, class Counters>
+template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Counters>
 Hit Bvh::traverse(const Ray& ray, std::uint32_t subtree, Counters& counters) const {
     Hit best;
     if (nodes_.empty()) return best;
-    const bvh::NodeBoxTest box_test(ray);
+    const bvh::NodeBoxTest<Slabs> box_test(ray);
     const TriangleIntersector<Test> triangle_test(ray);
     const bool dir_negative[3] = {ray.dir.x < 0.0f, ray.dir.y < 0.0f, ray.dir.z < 0.0f};
     float t_limit = ray.tmax;  // hits count strictly before it

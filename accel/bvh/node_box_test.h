@@ -2,7 +2,8 @@
 // One ray against one BVH node's box, the x, y and z slabs side by side in three lanes of a
 // 4-wide vector: the robust slab formula of core/slab_test.h (detail::clip_to_slab, written over
 // a value type) applied to the three axes at once, then the lanes reduced. About a third of the
-// instructions of three scalar slabs, in the loop that dominates traversal.
+// instructions of three scalar slabs, in the loop that dominates traversal. Slabs picks the robust
+// or the fast formula (core/slab_test.h).
 #include <cstdint>
 #include <xsimd/xsimd.hpp>
 
@@ -13,6 +14,7 @@
 
 namespace trident::bvh {
 
+template <SlabTest Slabs = SlabTest::robust>
 class NodeBoxTest {
     using Float4 = xsimd::make_sized_batch_t<float, 4>;
     using Arch = Float4::arch_type;
@@ -28,7 +30,8 @@ public:
     /// As intersect_slabs: whether [t_min, t_max] meets the node's box, its entry distance in t_entry.
     bool enters(const BvhNode& node, float t_min, float t_max, float& t_entry) const {
         Float4 entry(t_min), exit(t_max);
-        detail::clip_to_slab(load_xyz(&node.bounds.lo.x), load_xyz(&node.bounds.hi.x), origin_, inv_dir_, entry, exit);
+        detail::clip_to_slab<Slabs>(load_xyz(&node.bounds.lo.x), load_xyz(&node.bounds.hi.x), origin_, inv_dir_, entry,
+                                    exit);
         t_entry = largest_of_xyz(entry);
         return t_entry <= smallest_of_xyz(exit);
     }

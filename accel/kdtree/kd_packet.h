@@ -64,7 +64,7 @@ struct OctantGroup {
 /// Walks `lanes` one by one from `node`, each over its interval [t_min, t_max] there and limited
 /// by its closest hit so far, with the single-ray walk; their hits go into `hits`. Returns the
 /// lanes that hit.
-template <KdQuery Query, TriangleTest Test, class Arch, class Counters>
+template <KdQuery Query, TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
 xsimd::batch_bool<float, Arch> walk_lanes_singly(const KdTreeView& tree, const RayPacket<Arch>& rays,
                                                  std::uint32_t lanes, std::uint32_t node,
                                                  const xsimd::batch<float, Arch>& t_min,
@@ -82,8 +82,8 @@ xsimd::batch_bool<float, Arch> walk_lanes_singly(const KdTreeView& tree, const R
         const int i = std::countr_zero(lanes);
         const Ray ray{{ox[i], oy[i], oz[i]}, {dx[i], dy[i], dz[i]}, ray_tmin[i], t[i]};
         Hit best{ids[i], t[i], u[i], v[i]};
-        found[i] = walk_kdtree<Query>(tree, ray, SlabRay(ray.origin, ray.dir), TriangleIntersector<Test>(ray), node,
-                                      lo[i], hi[i], best, counters);
+        found[i] = walk_kdtree<Query, Test, Slabs>(tree, ray, SlabRay(ray.origin, ray.dir),
+                                                   TriangleIntersector<Test>(ray), node, lo[i], hi[i], best, counters);
         ids[i] = best.triangle, t[i] = best.t, u[i] = best.u, v[i] = best.v;
     }
     hits.triangle = xsimd::batch<std::uint32_t, Arch>::load_unaligned(ids.data());
@@ -99,7 +99,7 @@ xsimd::batch_bool<float, Arch> walk_lanes_singly(const KdTreeView& tree, const R
 /// SingleRayLanes lanes need go to the single-ray walk. Counters count per packet: a visit_node
 /// per node the packet (or an octant group of it) visits, a test_triangle per triangle it tests;
 /// single-ray walks count per ray.
-template <KdQuery Query, TriangleTest Test, int SingleRayLanes, class Arch, class Counters>
+template <KdQuery Query, TriangleTest Test, SlabTest Slabs, int SingleRayLanes, class Arch, class Counters>
 typename RayPacket<Arch>::Mask traverse_kdtree_packet(const KdTreeView& tree, const RayPacket<Arch>& rays,
                                                       HitPacket<Arch>& hits, Counters& counters) {
     using Float = typename RayPacket<Arch>::Float;
@@ -112,8 +112,8 @@ typename RayPacket<Arch>::Mask traverse_kdtree_packet(const KdTreeView& tree, co
     Mask live = rays.active & (rays.tmin <= rays.tmax);
     if (tree.nodes.empty() || !xsimd::any(live)) return found;
     Float root_min, root_max;  // each lane clipped to the scene box exactly as the single ray
-    live = live & clip_to_box(rays.slab, Vec3T<Float>(tree.bounds.lo), Vec3T<Float>(tree.bounds.hi), rays.tmin,
-                              rays.tmax, root_min, root_max);
+    live = live & clip_to_box<Slabs>(rays.slab, Vec3T<Float>(tree.bounds.lo), Vec3T<Float>(tree.bounds.hi), rays.tmin,
+                                     rays.tmax, root_min, root_max);
     const auto intersector = packet_intersector<Test>(rays);
 
     struct Pending {
@@ -133,8 +133,8 @@ typename RayPacket<Arch>::Mask traverse_kdtree_packet(const KdTreeView& tree, co
             const std::uint32_t lane_bits = simd::mask_bits(lanes);
             const KdNode node = tree.nodes[index];
             if (std::popcount(lane_bits) <= SingleRayLanes) {
-                found = found | walk_lanes_singly<Query, Test>(tree, rays, lane_bits, index, t_min, t_max, hits,
-                                                               counters);
+                found = found | walk_lanes_singly<Query, Test, Slabs>(tree, rays, lane_bits, index, t_min, t_max, hits,
+                                                                      counters);
             } else if (!node.is_leaf()) {
                 counters.visit_node();
                 const int axis = node.axis();
@@ -143,8 +143,8 @@ typename RayPacket<Arch>::Mask traverse_kdtree_packet(const KdTreeView& tree, co
                 const std::uint32_t near = below_first ? node.below_child() : node.above_child();
                 const std::uint32_t far = below_first ? node.above_child() : node.below_child();
                 // The single ray's if-chain, lane by lane: NaN (in the plane) fails both tests.
-                const Mask near_only = t_split > widened_up(t_max);
-                const Mask far_only = (!near_only) & (t_split < widened_down(t_min));
+                const Mask near_only = t_split > widened_up<Slabs>(t_max);
+                const Mask far_only = (!near_only) & (t_split < widened_down<Slabs>(t_min));
                 const Mask cut = !(near_only | far_only | (t_split != t_split));  // both, at t_split
                 const Mask to_near = lanes & !far_only, to_far = lanes & !near_only;
                 if (xsimd::any(to_near)) {
@@ -179,7 +179,7 @@ typename RayPacket<Arch>::Mask traverse_kdtree_packet(const KdTreeView& tree, co
             lanes = Mask(false);
             while (pending != 0 && !xsimd::any(lanes)) {
                 const Pending& cell = stack[--pending];
-                lanes = cell.lanes & !(cell.t_min > widened_up(hits.t));
+                lanes = cell.lanes & !(cell.t_min > widened_up<Slabs>(hits.t));
                 if constexpr (Query == KdQuery::any_hit) lanes = lanes & !found;
                 index = cell.node;
                 t_min = cell.t_min;

@@ -25,7 +25,8 @@
 // Ize 2013). Comparisons that decide whether to leave out a cell, and the skip test against the
 // best hit, therefore allow 2 gamma(3) of slack: a cell the ray meets only within rounding of its
 // boundary is visited rather than dropped, so a triangle touching that boundary from inside is
-// still found. The cost is a rare extra cell.
+// still found. The cost is a rare extra cell. SlabTest::fast leaves the slack (and the scene-box
+// safeguards of core/slab_test.h) out, to measure what they cost.
 //
 // Any-hit queries return at the first triangle hit in [ray.tmin, ray.tmax).
 #include <cmath>
@@ -56,13 +57,20 @@ namespace detail {
 
 inline constexpr float kKdSlack = 2.0f * rounding_gamma(3);
 // Written over float or a batch (Lanes<T>), so a packet lane widens exactly as the single ray.
-template <class T>
+// SlabTest::fast compares the rounded distances as they are (no slack).
+template <SlabTest Slabs, class T>
 T widened_up(T t) {
-    return t + Lanes<T>::abs(t) * T(kKdSlack);
+    if constexpr (Slabs == SlabTest::fast)
+        return t;
+    else
+        return t + Lanes<T>::abs(t) * T(kKdSlack);
 }
-template <class T>
+template <SlabTest Slabs, class T>
 T widened_down(T t) {
-    return t - Lanes<T>::abs(t) * T(kKdSlack);
+    if constexpr (Slabs == SlabTest::fast)
+        return t;
+    else
+        return t - Lanes<T>::abs(t) * T(kKdSlack);
 }
 
 }  // namespace detail
@@ -72,10 +80,10 @@ T widened_down(T t) {
 /// hit was recorded in `best` (any-hit queries: at the first one). The whole traversal starts it
 /// at the root; packet traversals hand it the subtrees that only a few lanes still need, and a
 /// lane walked so from a cell visits what the whole traversal visits from there.
-template <KdQuery Query, TriangleTest Test, class Counters>
+template <KdQuery Query, TriangleTest Test, SlabTest Slabs, class Counters>
 bool walk_kdtree(const KdTreeView& tree, const Ray& ray, const SlabRay& slab,
-                 const TriangleIntersector<Test>& intersector, std::uint32_t start, float t_min, float t_max,
-                 Hit& best, Counters& counters) {
+                 const TriangleIntersector<Test>& intersector, std::uint32_t start, float t_min, float t_max, Hit& best,
+                 Counters& counters) {
     using detail::widened_down;
     using detail::widened_up;
     struct Pending {
@@ -98,9 +106,9 @@ bool walk_kdtree(const KdTreeView& tree, const Ray& ray, const SlabRay& slab,
             if (std::isnan(t_split)) {  // the ray lies in the plane
                 stack[pending++] = {far, t_min, t_max};
                 index = near;
-            } else if (t_split > widened_up(t_max)) {
+            } else if (t_split > widened_up<Slabs>(t_max)) {
                 index = near;
-            } else if (t_split < widened_down(t_min)) {
+            } else if (t_split < widened_down<Slabs>(t_min)) {
                 index = far;
             } else {
                 stack[pending++] = {far, t_split, t_max};
@@ -124,23 +132,25 @@ bool walk_kdtree(const KdTreeView& tree, const Ray& ray, const SlabRay& slab,
         do {
             if (pending == 0) return found;
             --pending;
-        } while (stack[pending].t_min > widened_up(best.t));
+        } while (stack[pending].t_min > widened_up<Slabs>(best.t));
         index = stack[pending].node;
         t_min = stack[pending].t_min;
         t_max = stack[pending].t_max;
     }
 }
 
-template <KdQuery Query, TriangleTest Test, class Counters>
+template <KdQuery Query, TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Counters>
 Hit traverse_kdtree(const KdTreeView& tree, const Ray& ray, Counters& counters) {
     Hit best;
     const SlabRay slab(ray.origin, ray.dir);
     float t_min, t_max;
-    if (tree.nodes.empty() || !clip_to_box(slab, tree.bounds.lo, tree.bounds.hi, ray.tmin, ray.tmax, t_min, t_max))
+    if (tree.nodes.empty() ||
+        !clip_to_box<Slabs>(slab, tree.bounds.lo, tree.bounds.hi, ray.tmin, ray.tmax, t_min, t_max))
         return best;
     best.t = ray.tmax;
     const TriangleIntersector<Test> intersector(ray);
-    if (!walk_kdtree<Query>(tree, ray, slab, intersector, 0, t_min, t_max, best, counters)) best.t = kInfinity;
+    if (!walk_kdtree<Query, Test, Slabs>(tree, ray, slab, intersector, 0, t_min, t_max, best, counters))
+        best.t = kInfinity;
     return best;
 }
 

@@ -23,13 +23,13 @@ public:
     /// outgrows the 30-bit indices of KdNode.
     static KdTree build(const Mesh& mesh, const KdTreeOptions& options = {});
 
-    template <TriangleTest Test, class Counters>
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Counters>
     Hit intersect(const Ray& ray, Counters& counters) const {
-        return traverse_kdtree<KdQuery::closest_hit, Test>(view(), ray, counters);
+        return traverse_kdtree<KdQuery::closest_hit, Test, Slabs>(view(), ray, counters);
     }
-    template <TriangleTest Test, class Counters>
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Counters>
     bool occluded(const Ray& ray, Counters& counters) const {
-        return traverse_kdtree<KdQuery::any_hit, Test>(view(), ray, counters).is_hit();
+        return traverse_kdtree<KdQuery::any_hit, Test, Slabs>(view(), ray, counters).is_hit();
     }
     Hit intersect(const Ray& ray) const {
         NoCounters c;
@@ -44,16 +44,17 @@ public:
     /// (constructed from `rays`; other lanes are left as they are) or whether anything is hit,
     /// equal to intersect(ray) / occluded(ray) bit for bit. Subtrees that at most SingleRayLanes
     /// lanes need are walked ray by ray; the default is the measured break-even of the width.
-    template <TriangleTest Test, class Arch, class Counters,
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters,
               int SingleRayLanes = kd::single_ray_lanes(RayPacket<Arch>::width)>
     void intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters) const {
-        kd::traverse_kdtree_packet<KdQuery::closest_hit, Test, SingleRayLanes>(view(), rays, hits, counters);
+        kd::traverse_kdtree_packet<KdQuery::closest_hit, Test, Slabs, SingleRayLanes>(view(), rays, hits, counters);
     }
-    template <TriangleTest Test, class Arch, class Counters,
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters,
               int SingleRayLanes = kd::single_ray_lanes(RayPacket<Arch>::width)>
     typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters) const {
         HitPacket<Arch> limits(rays);
-        return kd::traverse_kdtree_packet<KdQuery::any_hit, Test, SingleRayLanes>(view(), rays, limits, counters);
+        return kd::traverse_kdtree_packet<KdQuery::any_hit, Test, Slabs, SingleRayLanes>(view(), rays, limits,
+                                                                                         counters);
     }
 
     const AccelStats& stats() const { return stats_; }

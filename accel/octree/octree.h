@@ -25,13 +25,13 @@ public:
     /// Throws std::invalid_argument on options out of range (validate()).
     static Octree build(const Mesh& mesh, const OctreeOptions& options = {});
 
-    template <TriangleTest Test, class Counters>
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Counters>
     Hit intersect(const Ray& ray, Counters& counters) const {
-        return traverse_octree<OctreeQuery::closest_hit, Test>(view(), ray, counters);
+        return traverse_octree<OctreeQuery::closest_hit, Test, Slabs>(view(), ray, counters);
     }
-    template <TriangleTest Test, class Counters>
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Counters>
     bool occluded(const Ray& ray, Counters& counters) const {
-        return traverse_octree<OctreeQuery::any_hit, Test>(view(), ray, counters).is_hit();
+        return traverse_octree<OctreeQuery::any_hit, Test, Slabs>(view(), ray, counters).is_hit();
     }
     Hit intersect(const Ray& ray) const {
         NoCounters c;
@@ -45,14 +45,14 @@ public:
     /// Ray packets (octree_packet.h): per active lane, the same hit as intersect(ray) bit for bit,
     /// into `hits` constructed from `rays`; the same answer as occluded(ray). Counters count per
     /// packet (per ray for lanes traced singly).
-    template <TriangleTest Test, class Arch, class Counters>
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters>
     void intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters) const {
-        traverse_octree_packet<OctreeQuery::closest_hit, Test>(view(), rays, hits, counters);
+        traverse_octree_packet<OctreeQuery::closest_hit, Test, Slabs>(view(), rays, hits, counters);
     }
-    template <TriangleTest Test, class Arch, class Counters>
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters>
     typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters) const {
         HitPacket<Arch> hits(rays);
-        return traverse_octree_packet<OctreeQuery::any_hit, Test>(view(), rays, hits, counters);
+        return traverse_octree_packet<OctreeQuery::any_hit, Test, Slabs>(view(), rays, hits, counters);
     }
 
     const AccelStats& stats() const { return stats_; }

@@ -67,7 +67,7 @@ inline constexpr int kOctreeSingleRayLanes = RayPacket<Arch>::width >= 16 ? 1 : 
 /// Walks the subtree of `node` (cell `cell`, slabs `slabs` per lane, mirrored by `mirror`) for each
 /// lane of `lanes` alone with walk_octree_subtree(), recording its hits in `hits` and adding it to
 /// `found` when it has one. Returns the lanes the walk finished.
-template <OctreeQuery Query, TriangleTest Test, class Arch, class Counters>
+template <OctreeQuery Query, TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
 xsimd::batch_bool<float, Arch> walk_lanes_singly(const OctreeView& tree, const RayPacket<Arch>& rays,
                                                  const PacketRootEntry<Arch>& root, unsigned mirror,
                                                  xsimd::batch_bool<float, Arch> lanes, const OctreeNode& node,
@@ -97,8 +97,8 @@ xsimd::batch_bool<float, Arch> walk_lanes_singly(const OctreeView& tree, const R
         const TriangleIntersector<Test> intersector(origin, {dx[i], dy[i], dz[i]}, tmin[i]);
         Hit best{ids[i], t[i], u[i], v[i]};
         const NodeSlabs lane_slabs{{t0x[i], t0y[i], t0z[i]}, {t1x[i], t1y[i], t1z[i]}};
-        finished[i] =
-            walk_octree_subtree<Query, Test>(tree, walk, intersector, tmin[i], node, lane_slabs, cell, best, counters);
+        finished[i] = walk_octree_subtree<Query, Test, Slabs>(tree, walk, intersector, tmin[i], node, lane_slabs, cell,
+                                                              best, counters);
         hit[i] = best.is_hit();
         ids[i] = best.triangle, t[i] = best.t, u[i] = best.u, v[i] = best.v;
     }
@@ -113,7 +113,7 @@ xsimd::batch_bool<float, Arch> walk_lanes_singly(const OctreeView& tree, const R
 /// Traces the lanes of `group` through `tree`, recording their hits in `hits` (whose t is each
 /// lane's limit). Returns the lanes that found a hit. Closest hit or any hit, as
 /// traverse_octree().
-template <OctreeQuery Query, TriangleTest Test, class Arch, class Counters>
+template <OctreeQuery Query, TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
 xsimd::batch_bool<float, Arch> traverse_octant_group(
     const OctreeView& tree, const RayPacket<Arch>& rays, const PacketRootEntry<Arch>& root,
     const TriangleIntersectorT<Test, xsimd::batch<float, Arch>>& intersector, const OctantGroup<Arch>& group,
@@ -142,7 +142,7 @@ xsimd::batch_bool<float, Arch> traverse_octant_group(
         for (std::uint32_t i = node.triangle_offset(); i < end; ++i) {
             const std::uint32_t position = tree.triangle_indices[i];
             counters.test_triangle();
-            TriangleHitT<Float> h;
+            TriangleHitT<Float> h{Float(0.0f), Float(0.0f), Float(0.0f)};
             const Mask hit = intersector.intersect(tree.triangles[position], limit, h);
             if (!xsimd::any(hit)) continue;
             hits.record(hit, tree.triangle_ids[position], h);
@@ -157,12 +157,12 @@ xsimd::batch_bool<float, Arch> traverse_octant_group(
         }
         // A lane ends here only if its hit lies before its widened exit of this cell, as alone.
         if constexpr (Query == OctreeQuery::closest_hit)
-            done = done | (lanes & found & (hits.t <= widened_cell_exit(slabs.t_exit())));
+            done = done | (lanes & found & (hits.t <= widened_cell_exit<Slabs>(slabs.t_exit())));
     };
     auto visit = [&](const OctreeNode& node, const NodeSlabsT<Float>& slabs, const OctreeCube& cell, Mask lanes) {
         if (simd::active_lane_count(lanes) <= single_ray_lanes) {
-            done = done | walk_lanes_singly<Query, Test>(tree, rays, root, mirror, lanes, node, slabs, cell, hits,
-                                                         found, counters);
+            done = done | walk_lanes_singly<Query, Test, Slabs>(tree, rays, root, mirror, lanes, node, slabs, cell,
+                                                                hits, found, counters);
             return;
         }
         counters.visit_node();
@@ -209,7 +209,7 @@ xsimd::batch_bool<float, Arch> traverse_octant_group(
 /// Traces the active lanes of `rays` (those with tmin <= tmax) through `tree` into `hits`, whose t
 /// starts as each lane's limit; lanes not traced are left untouched. Returns the lanes that hit.
 /// Subtrees entered by at most `single_ray_lanes` lanes are walked by each lane alone.
-template <OctreeQuery Query, TriangleTest Test, class Arch, class Counters>
+template <OctreeQuery Query, TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters>
 xsimd::batch_bool<float, Arch> traverse_octree_packet(const OctreeView& tree, const RayPacket<Arch>& rays,
                                                       HitPacket<Arch>& hits, Counters& counters,
                                                       int single_ray_lanes = kOctreeSingleRayLanes<Arch>) {
@@ -226,8 +226,8 @@ xsimd::batch_bool<float, Arch> traverse_octree_packet(const OctreeView& tree, co
     while (xsimd::any(remaining)) {
         const OctantGroup<Arch> group = next_octant_group(root, remaining);
         remaining = remaining & !group.lanes;
-        found = found | traverse_octant_group<Query, Test>(tree, rays, root, intersector, group, hits, counters,
-                                                           single_ray_lanes);
+        found = found | traverse_octant_group<Query, Test, Slabs>(tree, rays, root, intersector, group, hits, counters,
+                                                                  single_ray_lanes);
     }
     return found;
 }

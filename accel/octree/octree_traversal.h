@@ -30,7 +30,7 @@ enum class OctreeQuery { closest_hit, any_hit };
 /// the ray), front to back, lowering `best` (its t is the triangle tests' limit). Returns true when
 /// the ray is finished: its query is answered, or a cell it would enter lies beyond its closest
 /// hit, and so does every cell after it. Packets walk subtrees of few lanes with it.
-template <OctreeQuery Query, TriangleTest Test, class Counters>
+template <OctreeQuery Query, TriangleTest Test, SlabTest Slabs, class Counters>
 bool walk_octree_subtree(const OctreeView& tree, const OctreeWalkRay& walk,
                          const TriangleIntersector<Test>& intersector, float tmin, const OctreeNode& root,
                          const NodeSlabs& root_slabs, const OctreeCube& root_cell, Hit& best, Counters& counters) {
@@ -68,7 +68,7 @@ bool walk_octree_subtree(const OctreeView& tree, const OctreeWalkRay& walk,
         // a cell's face (axis-aligned walls on a centre plane) do not push the ray through the
         // next cells for nothing; that is safe because a nearer hit within those ulps of the face
         // is on a triangle the builder, whose cells are widened by far more, put in this cell too.
-        return best.is_hit() && best.t <= widened_cell_exit(slabs.t_exit());
+        return best.is_hit() && best.t <= widened_cell_exit<Slabs>(slabs.t_exit());
     };
 
     if (visit(root, root_slabs, root_cell)) return true;
@@ -92,7 +92,7 @@ bool walk_octree_subtree(const OctreeView& tree, const OctreeWalkRay& walk,
 
 /// Traces `ray` through `tree`. Closest hit: the nearest hit with tmin <= t < tmax, or a miss
 /// (triangle kNoTriangle, t = +inf). Any hit: the first hit found, or a miss.
-template <OctreeQuery Query, TriangleTest Test, class Counters>
+template <OctreeQuery Query, TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Counters>
 Hit traverse_octree(const OctreeView& tree, const Ray& ray, Counters& counters) {
     OctreeWalkRay walk;
     NodeSlabs root;
@@ -102,7 +102,8 @@ Hit traverse_octree(const OctreeView& tree, const Ray& ray, Counters& counters) 
     const TriangleIntersector<Test> intersector(ray);
     Hit best;
     best.t = ray.tmax;  // the triangle tests' limit, lowered by every hit
-    walk_octree_subtree<Query, Test>(tree, walk, intersector, ray.tmin, tree.nodes[0], root, tree.cube, best, counters);
+    walk_octree_subtree<Query, Test, Slabs>(tree, walk, intersector, ray.tmin, tree.nodes[0], root, tree.cube, best,
+                                            counters);
     if (!best.is_hit()) best.t = kInfinity;
     return best;
 }

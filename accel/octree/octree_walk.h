@@ -23,6 +23,7 @@
 #include "accel/octree/octree_node.h"
 #include "core/lanes.h"
 #include "core/ray.h"
+#include "core/slab_test.h"
 
 namespace trident {
 
@@ -120,10 +121,13 @@ inline bool walk_enters(unsigned child, const NodeSlabs& slabs, const Vec3f& tm)
 }
 
 /// The cell exit a hit must not lie beyond to end the ray in that cell (octree_traversal.h says
-/// why it is widened by a few ulps).
-template <class T>
+/// why it is widened by a few ulps; SlabTest::fast takes the rounded exit as it is).
+template <SlabTest Slabs, class T>
 T widened_cell_exit(const T& t_exit) {
-    return t_exit + Lanes<T>::abs(t_exit) * T(0x1p-21f);
+    if constexpr (Slabs == SlabTest::fast)
+        return t_exit;
+    else
+        return t_exit + Lanes<T>::abs(t_exit) * T(0x1p-21f);
 }
 
 }  // namespace trident

@@ -11,8 +11,11 @@
 #include <string>
 
 #include "accel/any_accel.h"
+#include "cli/stress_command.h"
 #include "camera/camera.h"
+#include "render/heat_map.h"
 #include "render/hit_buffer.h"
+#include "render/render_plan.h"
 #include "render/shade.h"
 #include "render/trace.h"
 #include "scene/manifest.h"
@@ -36,10 +39,14 @@ struct CommonOptions {
 
 struct RenderOptions {
     std::string simd = "auto";
+    std::string slabs = "robust";
     std::uint32_t width = 1920, height = 1080;
     std::string mode = "shaded";
     std::filesystem::path output = "render.png";
     std::optional<std::filesystem::path> dump_hits;
+    std::uint32_t ao_samples = 16;
+    std::string heat = "nodes";
+    bool explain = false;
 };
 
 double ms_since(std::chrono::steady_clock::time_point start) {
@@ -56,6 +63,12 @@ TriangleTest triangle_test_or_throw(const std::string& name) {
     if (name == "watertight") return TriangleTest::watertight;
     if (name == "moller_trumbore" || name == "mt") return TriangleTest::moller_trumbore;
     throw std::invalid_argument(fmt::format("--triangle-test {}: expected watertight or moller_trumbore", name));
+}
+
+SlabTest slab_test_or_throw(const std::string& name) {
+    if (name == to_string(SlabTest::robust)) return SlabTest::robust;
+    if (name == to_string(SlabTest::fast)) return SlabTest::fast;
+    throw std::invalid_argument(fmt::format("--slabs {}: expected robust or fast", name));
 }
 
 SimdWidth simd_width_or_throw(const std::string& name) {
@@ -95,27 +108,47 @@ int run_render(const CommonOptions& common, const RenderOptions& options) {
     const AccelKind kind = accel_kind_or_throw(common.accel);
     const TriangleTest test = triangle_test_or_throw(common.triangle_test);
     const SimdWidth width = simd_width_or_throw(options.simd);
+    const SlabTest slabs = slab_test_or_throw(options.slabs);
     const auto mode = parse_render_mode(options.mode);
-    if (!mode) throw std::invalid_argument(fmt::format("--mode {}: expected shaded, normal, depth or heat", options.mode));
+    if (!mode)
+        throw std::invalid_argument(fmt::format("--mode {}: expected shaded, normal, depth, heat or ao", options.mode));
+    const auto heat = parse_heat_measure(options.heat);
+    if (!heat) throw std::invalid_argument(fmt::format("--heat {}: expected nodes or triangles", options.heat));
+    if (options.ao_samples < 1 || options.ao_samples > 1024)
+        throw std::invalid_argument(fmt::format("--ao-samples {}: expected 1..1024", options.ao_samples));
     if (options.width == 0 || options.height == 0 || options.width > kMaxImageSide || options.height > kMaxImageSide)
         throw std::invalid_argument(fmt::format("--width/--height {}x{}: each must lie in 1..{}", options.width,
                                                 options.height, kMaxImageSide));
 
     const LoadedScene loaded = load_scene(common.scene, common.manifest);
     const Scene& scene = loaded.scene;
+    RenderRequest request;
+    request.mode = *mode;
+    request.accel = kind;
+    request.width = width;
+    request.ao_samples = options.ao_samples;
+    request.heat = *heat;
+    const RenderPlan plan = make_render_plan(scene, request);
+    if (options.explain) {  // the plan only: nothing is built or traced
+        fmt::print("{}: {} triangles, --mode {}, --accel {}: render plan\n", scene.name, scene.mesh.triangle_count(),
+                   to_string(*mode), to_string(kind));
+        for (const std::string& line : plan.explanation) fmt::print("  {}\n", line);
+        return 0;
+    }
     const AnyAccel accel = build_and_warn(kind, scene.mesh, common.accel_options);
     const Camera camera(scene.camera, options.width, options.height);
 
     const auto trace_start = std::chrono::steady_clock::now();
-    const std::vector<Hit> hits = trace_primary(accel, camera, test, width);
+    const std::vector<Hit> hits = trace_primary(accel, camera, test, width, slabs);
     const double trace_ms = ms_since(trace_start);
 
     Image image;
     switch (*mode) {
-        case RenderMode::shaded: image = shade_shaded(scene, accel, camera, hits, width); break;
-        case RenderMode::normal: image = shade_normal(scene, camera, hits); break;
+        case RenderMode::shaded: image = shade_shaded(scene, accel, camera, hits, plan); break;
+        case RenderMode::normal: image = shade_normal(scene, camera, hits, plan); break;
         case RenderMode::depth: image = shade_depth(camera, hits); break;
-        case RenderMode::heat: image = shade_heat(camera, count_primary(accel, camera, test)); break;
+        case RenderMode::heat: image = shade_heat(camera, count_primary_rays(accel, camera, width, test), plan.heat); break;
+        case RenderMode::ao: image = shade_ao(scene, accel, camera, hits, plan); break;
     }
     write_png(options.output, image);
     if (options.dump_hits) write_hit_buffer(*options.dump_hits, make_hit_buffer(camera.width(), camera.height(), hits));
@@ -170,9 +203,13 @@ int main(int argc, char** argv) {
     CLI::App* render_cmd = app.add_subcommand("render", "render a scene to a PNG (and optionally a hit buffer)");
     add_common_options(*render_cmd, common, true);
     render_cmd->add_option("--simd", render.simd, "traversal width: auto|scalar|4|8|16");
+    render_cmd->add_option("--slabs", render.slabs, "box tests of the primary rays: robust (default) or fast");
     render_cmd->add_option("--width", render.width, "image width in pixels");
     render_cmd->add_option("--height", render.height, "image height in pixels");
-    render_cmd->add_option("--mode", render.mode, "shaded|normal|depth|heat");
+    render_cmd->add_option("--mode", render.mode, "shaded|normal|depth|heat|ao");
+    render_cmd->add_option("--ao-samples", render.ao_samples, "ambient-occlusion rays per pixel with --mode ao (default 16)");
+    render_cmd->add_option("--heat", render.heat, "what --mode heat counts per pixel: nodes (default) or triangles");
+    render_cmd->add_flag("--explain", render.explain, "print the render plan (passes and why) and exit without rendering");
     render_cmd->add_option("--output", render.output, "PNG file to write");
     render_cmd->add_option("--dump-hits", render.dump_hits, "write the hit buffer of BENCHMARK.md to this file");
 
@@ -183,6 +220,7 @@ int main(int argc, char** argv) {
     std::optional<std::filesystem::path> scenes_manifest;
     CLI::App* scenes_cmd = app.add_subcommand("scenes", "list the built-in scenes (and a manifest's)");
     scenes_cmd->add_option("--scenes", scenes_manifest, "also list the scenes of this manifest");
+    const StressCommand stress_cmd(app);
 
     try {
         app.parse(argc, argv);
@@ -202,6 +240,7 @@ int main(int argc, char** argv) {
         tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, threads);
         if (render_cmd->parsed()) return run_render(common, render);
         if (info_cmd->parsed()) return run_info(info_common, info_cmd->count("--accel") > 0);
+        if (stress_cmd.parsed()) return stress_cmd.run();
         return run_scenes(scenes_manifest);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "trident: %s\n", e.what());

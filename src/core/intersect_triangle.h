@@ -9,6 +9,7 @@
 // Each test is written once over a value type T: float for one ray (TriangleIntersector<Test>),
 // an xsimd batch for a packet with one ray per lane (simd/lanes.h supplies Lanes<batch>). A lane
 // of a packet gives the same hit, t, u and v bits as the scalar test on that lane's ray.
+#include <array>
 #include <bit>
 #include <concepts>
 #include <cstdint>
@@ -64,6 +65,34 @@ void edge_functions_in_double(typename Lanes<T>::Mask lanes, const T& ax, const 
     w = L::from_array(w_);
 }
 
+/// The hit lanes whose triangle has area. A zero-area triangle (collinear or repeated corners)
+/// has det = 0 in exact arithmetic, but its corners, translated and sheared in float, need not
+/// stay collinear, so det may round away from zero and a ray passing its segment would hit it.
+/// Differences of floats and their products are exact in double (for corners whose exponents
+/// differ by less than 29), so the double cross product is zero exactly for collinear corners.
+/// Only lanes that passed every other test get here, so it is rare; done lane by lane, and kept
+/// out of line so that it does not bloat the triangle loops it is called from.
+template <class T>
+[[gnu::noinline]] typename Lanes<T>::Mask drop_zero_area(typename Lanes<T>::Mask hit, const Vec3T<T>& a, const Vec3T<T>& b,
+                                       const Vec3T<T>& c) {
+    using L = Lanes<T>;
+    const std::array<typename L::Array, 9> corners = {L::to_array(a.x), L::to_array(a.y), L::to_array(a.z),
+                                                      L::to_array(b.x), L::to_array(b.y), L::to_array(b.z),
+                                                      L::to_array(c.x), L::to_array(c.y), L::to_array(c.z)};
+    std::uint32_t zero_area = 0;
+    for (std::uint32_t bits = L::bits(hit); bits != 0; bits &= bits - 1) {
+        const int i = std::countr_zero(bits);
+        const Vec3d da(corners[0][i], corners[1][i], corners[2][i]);
+        const Vec3d e1 = Vec3d(corners[3][i], corners[4][i], corners[5][i]) - da;
+        const Vec3d e2 = Vec3d(corners[6][i], corners[7][i], corners[8][i]) - da;
+        if (cross(e1, e2) == Vec3d(0.0)) zero_area |= 1u << i;
+    }
+    if (zero_area == 0) return hit;
+    typename L::Array keep{};
+    for (std::size_t i = 0; i < L::width; ++i) keep[i] = (zero_area >> i) & 1u ? 0.0f : 1.0f;
+    return hit & (L::from_array(keep) != T(0.0f));
+}
+
 }  // namespace detail
 
 template <class T>
@@ -116,6 +145,8 @@ public:
         const T t = t_scaled * inv_det;
         hit = hit & (t >= tmin_) & (t < t_limit);
         if (L::none(hit)) return hit;
+        hit = detail::drop_zero_area(hit, tri_a, tri_b, tri_c);
+        if (L::none(hit)) return hit;
         out = {t, v * inv_det, w * inv_det};
         return hit;
     }
@@ -161,6 +192,8 @@ public:
         if (L::none(hit)) return hit;
         const T t = dot(e2, q) * inv_det;
         hit = hit & (t >= tmin_) & (t < t_limit);
+        if (L::none(hit)) return hit;
+        hit = detail::drop_zero_area(hit, a, b, c);
         if (L::none(hit)) return hit;
         out = {t, u, v};
         return hit;

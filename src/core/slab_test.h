@@ -15,6 +15,10 @@
 // that puts the origin just inside the slab (the box is closed: a point on its face is inside),
 // so no NaN can arise. For a nonzero direction the replacement only moves that distance outward
 // by tiny * |inv_dir|, which keeps the test conservative.
+//
+// SlabTest::fast drops both safeguards: the plain Kay–Kajiya test, as most tracers ship it, kept
+// to measure what robustness costs (issue 8). It can reject a box the ray touches only within
+// rounding, and gives NaN (a miss) for an origin on a slab plane of an axis the ray runs parallel to.
 #include <limits>
 
 #include "core/lanes.h"
@@ -22,6 +26,11 @@
 #include "core/vec3.h"
 
 namespace trident {
+
+/// Robust (the default) or fast box tests, a compile-time choice threaded through every traversal.
+enum class SlabTest { robust, fast };
+
+inline const char* to_string(SlabTest slabs) { return slabs == SlabTest::robust ? "robust" : "fast"; }
 
 /// gamma(n) = n u / (1 - n u), the bound on the relative error of n roundings (u = 2^-24; Higham,
 /// "Accuracy and Stability of Numerical Algorithms", section 3.1, as used by Ize and pbrt).
@@ -43,17 +52,34 @@ using SlabRay = SlabRayT<float>;
 
 namespace detail {
 
-/// Narrows [entry, exit] to the ray's interval inside one slab [lo, hi].
 template <class T>
-void clip_to_slab(T lo, T hi, T origin, T inv_dir, T& entry, T& exit) {
+struct SlabInterval {
+    T near, far;
+};
+
+/// The ray's parameter interval inside one slab [lo, hi], the far end widened when robust.
+template <SlabTest Slabs = SlabTest::robust, class T>
+SlabInterval<T> slab_interval(T lo, T hi, T origin, T inv_dir) {
     using L = Lanes<T>;
-    constexpr float kFarScale = 1.0f + 2.0f * rounding_gamma(3);
-    const T zero(0.0f), tiny(std::numeric_limits<float>::min());
     const T to_lo = lo - origin, to_hi = hi - origin;
-    const T t_lo = L::select(to_lo == zero, -tiny, to_lo) * inv_dir;
-    const T t_hi = L::select(to_hi == zero, tiny, to_hi) * inv_dir;
-    entry = L::max(entry, L::min(t_lo, t_hi));
-    exit = L::min(exit, L::max(t_lo, t_hi) * T(kFarScale));
+    if constexpr (Slabs == SlabTest::robust) {
+        constexpr float kFarScale = 1.0f + 2.0f * rounding_gamma(3);
+        const T zero(0.0f), tiny(std::numeric_limits<float>::min());
+        const T t_lo = L::select(to_lo == zero, -tiny, to_lo) * inv_dir;
+        const T t_hi = L::select(to_hi == zero, tiny, to_hi) * inv_dir;
+        return {L::min(t_lo, t_hi), L::max(t_lo, t_hi) * T(kFarScale)};
+    } else {
+        const T t_lo = to_lo * inv_dir, t_hi = to_hi * inv_dir;
+        return {L::min(t_lo, t_hi), L::max(t_lo, t_hi)};
+    }
+}
+
+/// Narrows [entry, exit] to the ray's interval inside one slab [lo, hi].
+template <SlabTest Slabs = SlabTest::robust, class T>
+void clip_to_slab(T lo, T hi, T origin, T inv_dir, T& entry, T& exit) {
+    const SlabInterval<T> slab = slab_interval<Slabs>(lo, hi, origin, inv_dir);
+    entry = Lanes<T>::max(entry, slab.near);
+    exit = Lanes<T>::min(exit, slab.far);
 }
 
 }  // namespace detail
@@ -61,24 +87,24 @@ void clip_to_slab(T lo, T hi, T origin, T inv_dir, T& entry, T& exit) {
 /// The ray's interval inside the closed, non-empty box [lo, hi]: [t_min, t_max] narrowed to
 /// [t_entry, t_exit], the exit widened as above (a kd-tree clips its rays to the scene box so).
 /// The interval is not empty where the mask is set.
-template <class T>
-typename Lanes<T>::Mask clip_to_box(const SlabRayT<T>& ray, const Vec3T<T>& lo, const Vec3T<T>& hi, T t_min,
-                                    T t_max, T& t_entry, T& t_exit) {
+template <SlabTest Slabs = SlabTest::robust, class T>
+typename Lanes<T>::Mask clip_to_box(const SlabRayT<T>& ray, const Vec3T<T>& lo, const Vec3T<T>& hi, T t_min, T t_max,
+                                    T& t_entry, T& t_exit) {
     t_entry = t_min;
     t_exit = t_max;
-    detail::clip_to_slab(lo.x, hi.x, ray.origin.x, ray.inv_dir.x, t_entry, t_exit);
-    detail::clip_to_slab(lo.y, hi.y, ray.origin.y, ray.inv_dir.y, t_entry, t_exit);
-    detail::clip_to_slab(lo.z, hi.z, ray.origin.z, ray.inv_dir.z, t_entry, t_exit);
+    detail::clip_to_slab<Slabs>(lo.x, hi.x, ray.origin.x, ray.inv_dir.x, t_entry, t_exit);
+    detail::clip_to_slab<Slabs>(lo.y, hi.y, ray.origin.y, ray.inv_dir.y, t_entry, t_exit);
+    detail::clip_to_slab<Slabs>(lo.z, hi.z, ray.origin.z, ray.inv_dir.z, t_entry, t_exit);
     return t_entry <= t_exit;
 }
 
 /// Whether the ray's interval [t_min, t_max] meets the closed, non-empty box [lo, hi]. Writes the
 /// entry distance, max(t_min, where the ray enters the box), to t_entry (meaningful where it hits).
-template <class T>
+template <SlabTest Slabs = SlabTest::robust, class T>
 typename Lanes<T>::Mask intersect_slabs(const SlabRayT<T>& ray, const Vec3T<T>& lo, const Vec3T<T>& hi, T t_min,
                                         T t_max, T& t_entry) {
     T t_exit;
-    return clip_to_box(ray, lo, hi, t_min, t_max, t_entry, t_exit);
+    return clip_to_box<Slabs>(ray, lo, hi, t_min, t_max, t_entry, t_exit);
 }
 
 }  // namespace trident

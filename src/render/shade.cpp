@@ -5,7 +5,8 @@
 #include <cmath>
 
 #include "core/ray_offset.h"
-#include "render/trace.h"
+#include "render/ray_stream.h"
+#include "render/secondary_rays.h"
 
 namespace trident {
 namespace {
@@ -34,22 +35,6 @@ constexpr Vec3f kAlbedo{0.75f, 0.72f, 0.66f};
 
 }  // namespace
 
-const char* to_string(RenderMode mode) {
-    switch (mode) {
-        case RenderMode::shaded: return "shaded";
-        case RenderMode::normal: return "normal";
-        case RenderMode::depth: return "depth";
-        case RenderMode::heat: return "heat";
-    }
-    return "?";
-}
-
-std::optional<RenderMode> parse_render_mode(std::string_view name) {
-    for (RenderMode mode : {RenderMode::shaded, RenderMode::normal, RenderMode::depth, RenderMode::heat})
-        if (name == to_string(mode)) return mode;
-    return std::nullopt;
-}
-
 Vec3f shading_normal(const Mesh& mesh, const Hit& hit, const Vec3f& ray_dir) {
     const Vec3f geometric = face_forward(geometric_normal(mesh, hit.triangle), ray_dir);
     if (!mesh.has_normals()) return geometric;
@@ -61,29 +46,79 @@ Vec3f shading_normal(const Mesh& mesh, const Hit& hit, const Vec3f& ray_dir) {
     return face_forward(n / len, ray_dir);
 }
 
+Vec3f shading_normal(const Mesh& mesh, const Hit& hit, const Vec3f& ray_dir, NormalSource source) {
+    if (source == NormalSource::interpolated) return shading_normal(mesh, hit, ray_dir);
+    return face_forward(geometric_normal(mesh, hit.triangle), ray_dir);
+}
+
+std::vector<std::uint8_t> light_visibility(const Scene& scene, const AnyAccel& accel, const Camera& camera,
+                                           const std::vector<Hit>& hits, const RenderPlan& plan) {
+    std::vector<std::uint8_t> lit(hits.size(), 0);
+    if (!plan.shadow_pass || !plan.light) return lit;
+    const Vec3f light = plan.light->position;
+    const std::size_t lanes = lane_count(plan.shadow_traversal.width);
+    for_each_image_tile(camera, [&](const ImageTile& tile) {
+        // The tile's shadow rays in the order of its primary packets: lanes of a shadow packet
+        // start from the pixels of one primary packet.
+        std::vector<Ray> rays;
+        std::vector<std::uint32_t> pixels;
+        for (std::uint32_t pixel : pixels_in_packet_order(camera, tile, lanes)) {
+            if (!hits[pixel].is_hit()) continue;
+            const Ray primary = camera.primary_ray(pixel % camera.width(), pixel / camera.width());
+            rays.push_back(shadow_ray(scene.mesh, primary, hits[pixel], light));
+            pixels.push_back(pixel);
+        }
+        std::vector<std::uint8_t> occluded(rays.size());
+        occlude_stream(accel, rays, occluded, plan.shadow_traversal);
+        for (std::size_t i = 0; i < rays.size(); ++i)
+            lit[pixels[i]] = rays[i].tmax > rays[i].tmin && !occluded[i];
+    });
+    return lit;
+}
+
+std::vector<float> ambient_visibility(const Scene& scene, const AnyAccel& accel, const Camera& camera,
+                                      const std::vector<Hit>& hits, const RenderPlan& plan) {
+    std::vector<float> open(hits.size(), 1.0f);
+    if (!plan.occlusion_pass || plan.occlusion_samples == 0) return open;
+    const std::uint32_t samples = plan.occlusion_samples;
+    const std::size_t lanes = lane_count(plan.occlusion_traversal.width);
+    for_each_image_tile(camera, [&](const ImageTile& tile) {
+        std::vector<Ray> rays;
+        std::vector<std::uint32_t> pixels;
+        for (std::uint32_t pixel : pixels_in_packet_order(camera, tile, lanes)) {
+            if (!hits[pixel].is_hit()) continue;
+            const Ray primary = camera.primary_ray(pixel % camera.width(), pixel / camera.width());
+            const Vec3f p = primary.origin + primary.dir * hits[pixel].t;
+            const Vec3f ng = facing_geometric_normal(scene.mesh, hits[pixel].triangle, primary.dir);
+            const Vec3f n = shading_normal(scene.mesh, hits[pixel], primary.dir, plan.normals);
+            for (std::uint32_t s = 0; s < samples; ++s) {
+                rays.push_back(hemisphere_ray(p, ng, n, sample_uniforms(pixel, s), plan.occlusion_radius));
+                pixels.push_back(pixel);
+            }
+        }
+        std::vector<std::uint8_t> occluded(rays.size());
+        occlude_stream(accel, rays, occluded, plan.occlusion_traversal);
+        std::vector<std::uint32_t> escaped(std::size_t(tile.x1 - tile.x0) * (tile.y1 - tile.y0), 0);
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            const std::uint32_t x = pixels[i] % camera.width() - tile.x0, y = pixels[i] / camera.width() - tile.y0;
+            escaped[std::size_t(y) * (tile.x1 - tile.x0) + x] += rays[i].tmax > rays[i].tmin && !occluded[i];
+        }
+        for (std::uint32_t y = tile.y0; y < tile.y1; ++y)
+            for (std::uint32_t x = tile.x0; x < tile.x1; ++x) {
+                const std::size_t pixel = std::size_t(y) * camera.width() + x;
+                if (hits[pixel].is_hit())
+                    open[pixel] = float(escaped[std::size_t(y - tile.y0) * (tile.x1 - tile.x0) + (x - tile.x0)]) /
+                                  float(samples);
+            }
+    });
+    return open;
+}
+
 Image shade_shaded(const Scene& scene, const AnyAccel& accel, const Camera& camera, const std::vector<Hit>& hits,
-                   SimdWidth width) {
+                   const RenderPlan& plan) {
     Image image(camera.width(), camera.height());
     const std::uint32_t w = camera.width();
-    std::vector<Ray> shadow_rays;
-    if (scene.light) {
-        // One shadow ray per lit-facing hit, origin pushed off the surface along the geometric normal.
-        shadow_rays.assign(hits.size(), Ray{{}, {1.0f, 0.0f, 0.0f}, 0.0f, 0.0f});
-        for (std::size_t i = 0; i < hits.size(); ++i) {
-            if (!hits[i].is_hit()) continue;
-            const Ray primary = camera.primary_ray(std::uint32_t(i % w), std::uint32_t(i / w));
-            const Vec3f p = primary.origin + primary.dir * hits[i].t;
-            const Vec3f ng = face_forward(geometric_normal(scene.mesh, hits[i].triangle), primary.dir);
-            const Vec3f to_light = scene.light->position - p;
-            if (dot(to_light, ng) <= 0.0f) continue;  // the light is behind the surface: no ray needed
-            const Vec3f origin = offset_ray_origin(p, ng);
-            const Vec3f d = scene.light->position - origin;
-            const float distance = length(d);
-            shadow_rays[i] = Ray{origin, d / distance, 0.0f, distance * (1.0f - 1e-5f)};
-        }
-    }
-    const std::vector<std::uint8_t> occluded =
-        scene.light ? trace_occlusion(accel, shadow_rays, TriangleTest::watertight, width) : std::vector<std::uint8_t>{};
+    const std::vector<std::uint8_t> lit = light_visibility(scene, accel, camera, hits, plan);
     for (std::size_t i = 0; i < hits.size(); ++i) {
         const auto x = std::uint32_t(i % w), y = std::uint32_t(i / w);
         if (!hits[i].is_hit()) {
@@ -91,12 +126,11 @@ Image shade_shaded(const Scene& scene, const AnyAccel& accel, const Camera& came
             continue;
         }
         const Ray primary = camera.primary_ray(x, y);
-        const Vec3f n = shading_normal(scene.mesh, hits[i], primary.dir);
+        const Vec3f n = shading_normal(scene.mesh, hits[i], primary.dir, plan.normals);
         float light = 0.0f;
-        if (scene.light) {
+        if (plan.shadow_pass) {
             const Vec3f p = primary.origin + primary.dir * hits[i].t;
-            const bool lit = shadow_rays[i].tmax > shadow_rays[i].tmin && !occluded[i];
-            light = 0.12f + (lit ? 0.88f * std::max(0.0f, dot(n, normalize(scene.light->position - p))) : 0.0f);
+            light = 0.12f + (lit[i] ? 0.88f * std::max(0.0f, dot(n, normalize(plan.light->position - p))) : 0.0f);
         } else {
             light = 0.15f + 0.85f * std::abs(dot(n, primary.dir));
         }
@@ -105,12 +139,23 @@ Image shade_shaded(const Scene& scene, const AnyAccel& accel, const Camera& came
     return image;
 }
 
-Image shade_normal(const Scene& scene, const Camera& camera, const std::vector<Hit>& hits) {
+Image shade_ao(const Scene& scene, const AnyAccel& accel, const Camera& camera, const std::vector<Hit>& hits,
+               const RenderPlan& plan) {
+    Image image(camera.width(), camera.height());
+    const std::vector<float> open = ambient_visibility(scene, accel, camera, hits, plan);
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+        const auto x = std::uint32_t(i % camera.width()), y = std::uint32_t(i / camera.width());
+        image.at(x, y) = hits[i].is_hit() ? to_rgb(Vec3f{open[i]}) : background(camera, y);
+    }
+    return image;
+}
+
+Image shade_normal(const Scene& scene, const Camera& camera, const std::vector<Hit>& hits, const RenderPlan& plan) {
     Image image(camera.width(), camera.height());
     for (std::size_t i = 0; i < hits.size(); ++i) {
         const auto x = std::uint32_t(i % camera.width()), y = std::uint32_t(i / camera.width());
         if (!hits[i].is_hit()) continue;
-        const Vec3f n = shading_normal(scene.mesh, hits[i], camera.primary_ray(x, y).dir);
+        const Vec3f n = shading_normal(scene.mesh, hits[i], camera.primary_ray(x, y).dir, plan.normals);
         const Vec3f c = n * 0.5f + Vec3f{0.5f};
         image.at(x, y) = {std::uint8_t(c.x * 255.0f), std::uint8_t(c.y * 255.0f), std::uint8_t(c.z * 255.0f)};
     }
@@ -127,24 +172,6 @@ Image shade_depth(const Camera& camera, const std::vector<Hit>& hits) {
         if (!hits[i].is_hit()) continue;
         const auto level = std::uint8_t(std::lround(255.0f * (1.0f - 0.85f * (hits[i].t - nearest) / range)));
         image.pixels[i] = {level, level, level};
-    }
-    return image;
-}
-
-Image shade_heat(const Camera& camera, const std::vector<TraversalCounters>& counts) {
-    // A perceptually ordered ramp (dark blue -> teal -> yellow -> white-hot), sampled linearly.
-    static constexpr std::array<Vec3f, 5> kRamp{Vec3f{0.02f, 0.02f, 0.10f}, Vec3f{0.10f, 0.25f, 0.60f},
-                                               Vec3f{0.10f, 0.65f, 0.55f}, Vec3f{0.95f, 0.85f, 0.20f},
-                                               Vec3f{1.0f, 1.0f, 1.0f}};
-    Image image(camera.width(), camera.height());
-    std::uint64_t most = 1;
-    for (const TraversalCounters& c : counts) most = std::max(most, c.nodes_visited);
-    for (std::size_t i = 0; i < counts.size(); ++i) {
-        const float s = float(counts[i].nodes_visited) / float(most) * float(kRamp.size() - 1);
-        const auto k = std::min(std::size_t(s), kRamp.size() - 2);
-        const float f = s - float(k);
-        const Vec3f c = kRamp[k] * (1.0f - f) + kRamp[k + 1] * f;
-        image.pixels[i] = {std::uint8_t(c.x * 255.0f), std::uint8_t(c.y * 255.0f), std::uint8_t(c.z * 255.0f)};
     }
     return image;
 }

@@ -40,13 +40,20 @@ concept PacketTraversable = requires(const Structure& s, const RayPacket<Arch>& 
     s.template occluded<TriangleTest::watertight>(rays, counters);
 };
 
+/// Scalar always; a packet width when the structure has a packet traversal.
+template <SimdWidth W, class Structure>
+constexpr bool can_trace_at() {
+    if constexpr (W == SimdWidth::scalar) return true;
+    else return PacketTraversable<Structure, ArchOf<W>>;
+}
+
 [[noreturn]] void throw_no_packets(const AnyAccel& accel, SimdWidth width) {
     throw std::runtime_error(fmt::format("--simd {} with --accel {}: packet traversal not built yet", to_string(width),
                                          to_string(accel.kind())));
 }
 
 /// Primary rays of one tile as packets of the structure's closest-hit packet traversal.
-template <TriangleTest Test, class Arch, class Structure>
+template <TriangleTest Test, SlabTest Slabs, class Arch, class Structure>
 void trace_tile_packets(const Structure& structure, const Camera& camera, const Tile& tile, std::span<Hit> out) {
     constexpr std::size_t kLanes = RayPacket<Arch>::width;
     constexpr auto kBlock = packet_block(kLanes);
@@ -64,7 +71,7 @@ void trace_tile_packets(const Structure& structure, const Camera& camera, const 
             const RayPacket<Arch> packet(std::span<const Ray>(rays.data(), lanes));
             HitPacket<Arch> packet_hits(packet);
             NoCounters counters;
-            structure.template intersect<Test>(packet, packet_hits, counters);
+            structure.template intersect<Test, Slabs>(packet, packet_hits, counters);
             packet_hits.store(std::span<Hit>(hits.data(), lanes));
             for (std::size_t i = 0; i < lanes; ++i) out[pixel[i]] = hits[i];
         }
@@ -73,29 +80,31 @@ void trace_tile_packets(const Structure& structure, const Camera& camera, const 
 
 }  // namespace
 
-std::vector<Hit> trace_primary(const AnyAccel& accel, const Camera& camera, TriangleTest test, SimdWidth width) {
+std::vector<Hit> trace_primary(const AnyAccel& accel, const Camera& camera, TriangleTest test, SimdWidth width,
+                               SlabTest slabs) {
     std::vector<Hit> hits(std::size_t(camera.width()) * camera.height());
-    trace_primary(accel, camera, hits, test, width);
+    trace_primary(accel, camera, hits, test, width, slabs);
     return hits;
 }
 
-void trace_primary(const AnyAccel& accel, const Camera& camera, std::span<Hit> hits, TriangleTest test,
-                   SimdWidth width) {
+void trace_primary(const AnyAccel& accel, const Camera& camera, std::span<Hit> hits, TriangleTest test, SimdWidth width,
+                   SlabTest slabs) {
     if (hits.size() != std::size_t(camera.width()) * camera.height())
         throw std::invalid_argument("trace_primary: the hit buffer does not match the image size");
-    with_triangle_test(test, [&](auto test_tag) {
+    with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
         constexpr TriangleTest Test = decltype(test_tag)::value;
+        constexpr SlabTest Slabs = decltype(slabs_tag)::value;
         accel.visit([&](const auto& structure) {
             using Structure = std::decay_t<decltype(structure)>;
             dispatch_width(width, [&]<SimdWidth W>() {
                 if constexpr (W == SimdWidth::scalar) {
                     for_each_pixel_tiled(camera, [&](std::uint32_t x, std::uint32_t y, std::size_t i) {
                         NoCounters counters;
-                        hits[i] = structure.template intersect<Test>(camera.primary_ray(x, y), counters);
+                        hits[i] = structure.template intersect<Test, Slabs>(camera.primary_ray(x, y), counters);
                     });
                 } else if constexpr (PacketTraversable<Structure, ArchOf<W>>) {
                     for_each_tile(camera, [&](const Tile& tile) {
-                        trace_tile_packets<Test, ArchOf<W>>(structure, camera, tile, hits);
+                        trace_tile_packets<Test, Slabs, ArchOf<W>>(structure, camera, tile, hits);
                     });
                 } else {
                     throw_no_packets(accel, W);
@@ -117,62 +126,120 @@ bool has_packet_traversal(const AnyAccel& accel, SimdWidth width) {
     });
 }
 
-std::vector<TraversalCounters> count_primary(const AnyAccel& accel, const Camera& camera, TriangleTest test) {
+std::vector<TraversalCounters> count_primary(const AnyAccel& accel, const Camera& camera, TriangleTest test,
+                                             SlabTest slabs) {
     std::vector<TraversalCounters> counts(std::size_t(camera.width()) * camera.height());
-    with_triangle_test(test, [&](auto test_tag) {
+    with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
         accel.visit([&](const auto& structure) {
             for_each_pixel_tiled(camera, [&](std::uint32_t x, std::uint32_t y, std::size_t i) {
-                structure.template intersect<decltype(test_tag)::value>(camera.primary_ray(x, y), counts[i]);
+                structure.template intersect<decltype(test_tag)::value, decltype(slabs_tag)::value>(
+                    camera.primary_ray(x, y), counts[i]);
             });
         });
     });
     return counts;
 }
 
+namespace {
+
+/// Runs the rays with tmax > tmin over oneTBB's threads at width W: one by one through
+/// single(i), or in packets of consecutive traced rays through packet(RayPacket, indices).
+template <SimdWidth W, class Single, class Packet>
+void for_each_traced_ray(std::span<const Ray> rays, Single&& single, Packet&& packet) {
+    constexpr std::size_t kLanes = lane_count(W);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 64 * kLanes), [&](const auto& range) {
+        if constexpr (W == SimdWidth::scalar) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i)
+                if (rays[i].tmax > rays[i].tmin) single(i);
+        } else {
+            std::array<Ray, kLanes> batch;
+            std::array<std::size_t, kLanes> index;
+            std::size_t lanes = 0;
+            auto flush = [&] {
+                packet(RayPacket<ArchOf<W>>(std::span<const Ray>(batch.data(), lanes)),
+                       std::span<const std::size_t>(index.data(), lanes));
+                lanes = 0;
+            };
+            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                if (!(rays[i].tmax > rays[i].tmin)) continue;
+                batch[lanes] = rays[i];
+                index[lanes++] = i;
+                if (lanes == kLanes) flush();
+            }
+            if (lanes) flush();
+        }
+    });
+}
+
+/// One packet's closest hits, written to out[index[lane]].
+template <TriangleTest Test, class Structure, class Arch>
+void trace_packet_closest(const Structure& structure, const RayPacket<Arch>& packet, std::span<const std::size_t> index,
+                          std::span<Hit> out) {
+    HitPacket<Arch> packet_hits(packet);
+    NoCounters counters;
+    structure.template intersect<Test>(packet, packet_hits, counters);
+    std::array<Hit, RayPacket<Arch>::width> lane_hits;
+    packet_hits.store(std::span<Hit>(lane_hits.data(), index.size()));
+    for (std::size_t k = 0; k < index.size(); ++k) out[index[k]] = lane_hits[k];
+}
+
+}  // namespace
+
 std::vector<std::uint8_t> trace_occlusion(const AnyAccel& accel, std::span<const Ray> rays, TriangleTest test,
-                                          SimdWidth width) {
+                                          SimdWidth width, SlabTest slabs) {
     std::vector<std::uint8_t> occluded(rays.size(), 0);
+    with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
+        constexpr TriangleTest Test = decltype(test_tag)::value;
+        constexpr SlabTest Slabs = decltype(slabs_tag)::value;
+        accel.visit([&](const auto& structure) {
+            using Structure = std::decay_t<decltype(structure)>;
+            dispatch_width(width, [&]<SimdWidth W>() {
+                if constexpr (can_trace_at<W, Structure>()) {
+                    for_each_traced_ray<W>(
+                        rays,
+                        [&](std::size_t i) {
+                            NoCounters counters;
+                            occluded[i] = structure.template occluded<Test, Slabs>(rays[i], counters);
+                        },
+                        [&](const auto& packet, std::span<const std::size_t> index) {
+                            NoCounters counters;
+                            const std::uint32_t bits =
+                                simd::mask_bits(structure.template occluded<Test, Slabs>(packet, counters));
+                            for (std::size_t k = 0; k < index.size(); ++k) occluded[index[k]] = (bits >> k) & 1u;
+                        });
+                } else {
+                    throw_no_packets(accel, W);
+                }
+            });
+        });
+    });
+    return occluded;
+}
+
+std::vector<Hit> trace_closest(const AnyAccel& accel, std::span<const Ray> rays, TriangleTest test, SimdWidth width) {
+    std::vector<Hit> hits(rays.size());
     with_triangle_test(test, [&](auto test_tag) {
         constexpr TriangleTest Test = decltype(test_tag)::value;
         accel.visit([&](const auto& structure) {
             using Structure = std::decay_t<decltype(structure)>;
             dispatch_width(width, [&]<SimdWidth W>() {
-                constexpr std::size_t kLanes = lane_count(W);
-                tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 64 * kLanes), [&](const auto& range) {
-                    if constexpr (W == SimdWidth::scalar) {
-                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                            if (!(rays[i].tmax > rays[i].tmin)) continue;
+                if constexpr (can_trace_at<W, Structure>()) {
+                    for_each_traced_ray<W>(
+                        rays,
+                        [&](std::size_t i) {
                             NoCounters counters;
-                            occluded[i] = structure.template occluded<Test>(rays[i], counters);
-                        }
-                    } else if constexpr (PacketTraversable<Structure, ArchOf<W>>) {
-                        // Rays with nothing to trace (tmax <= tmin) are left out of the packets.
-                        std::array<Ray, kLanes> batch;
-                        std::array<std::size_t, kLanes> index;
-                        std::size_t lanes = 0;
-                        auto flush = [&] {
-                            const RayPacket<ArchOf<W>> packet(std::span<const Ray>(batch.data(), lanes));
-                            NoCounters counters;
-                            const std::uint32_t bits =
-                                simd::mask_bits(structure.template occluded<Test>(packet, counters));
-                            for (std::size_t k = 0; k < lanes; ++k) occluded[index[k]] = (bits >> k) & 1u;
-                            lanes = 0;
-                        };
-                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                            if (!(rays[i].tmax > rays[i].tmin)) continue;
-                            batch[lanes] = rays[i];
-                            index[lanes++] = i;
-                            if (lanes == kLanes) flush();
-                        }
-                        if (lanes) flush();
-                    } else {
-                        throw_no_packets(accel, W);
-                    }
-                });
+                            hits[i] = structure.template intersect<Test>(rays[i], counters);
+                        },
+                        [&](const auto& packet, std::span<const std::size_t> index) {
+                            trace_packet_closest<Test>(structure, packet, index, hits);
+                        });
+                } else {
+                    throw_no_packets(accel, W);
+                }
             });
         });
     });
-    return occluded;
+    return hits;
 }
 
 }  // namespace trident

@@ -9,6 +9,7 @@
 #include "accel/any_accel.h"
 #include "camera/camera.h"
 #include "core/intersect_triangle.h"
+#include "core/slab_test.h"
 #include "simd/width.h"
 
 namespace trident {
@@ -16,12 +17,15 @@ namespace trident {
 /// Closest hit of every primary ray, row-major from the top row. With a packet width, rays go as
 /// packets of 2x2 (4 lanes), 4x2 (8) or 4x4 (16) pixels; lanes past the image edge are inactive.
 /// Throws std::runtime_error when the width is not runnable here or the structure has no packets.
-std::vector<Hit> trace_primary(const AnyAccel& accel, const Camera& camera, TriangleTest test = TriangleTest::watertight,
-                               SimdWidth width = SimdWidth::scalar);
+/// `slabs` picks the structures' robust (default) or fast box tests (core/slab_test.h).
+std::vector<Hit> trace_primary(const AnyAccel& accel, const Camera& camera,
+                               TriangleTest test = TriangleTest::watertight, SimdWidth width = SimdWidth::scalar,
+                               SlabTest slabs = SlabTest::robust);
 /// The same into a buffer of width x height hits the caller owns, so repeated timed traces
 /// (trident-bench) measure tracing, not allocating. Throws std::invalid_argument on a wrong size.
 void trace_primary(const AnyAccel& accel, const Camera& camera, std::span<Hit> hits,
-                   TriangleTest test = TriangleTest::watertight, SimdWidth width = SimdWidth::scalar);
+                   TriangleTest test = TriangleTest::watertight, SimdWidth width = SimdWidth::scalar,
+                   SlabTest slabs = SlabTest::robust);
 /// Whether trace_primary can run this structure at this width here (scalar always; a packet width
 /// needs the CPU's instruction set and the structure's packet traversal), so the benchmark skips
 /// what trace_primary would refuse.
@@ -29,13 +33,19 @@ bool has_packet_traversal(const AnyAccel& accel, SimdWidth width);
 
 /// The same rays traced with counters on: nodes visited and triangles tested per pixel.
 std::vector<TraversalCounters> count_primary(const AnyAccel& accel, const Camera& camera,
-                                             TriangleTest test = TriangleTest::watertight);
+                                             TriangleTest test = TriangleTest::watertight,
+                                             SlabTest slabs = SlabTest::robust);
 
 /// Any-hit for each ray; rays with tmax <= tmin are not traced and count as unoccluded.
 /// Packets gather consecutive traced rays (image order keeps shadow rays of neighbouring pixels together).
 std::vector<std::uint8_t> trace_occlusion(const AnyAccel& accel, std::span<const Ray> rays,
                                           TriangleTest test = TriangleTest::watertight,
-                                          SimdWidth width = SimdWidth::scalar);
+                                          SimdWidth width = SimdWidth::scalar, SlabTest slabs = SlabTest::robust);
+
+/// Closest hit of each ray, in the rays' order; packets gather consecutive traced rays as
+/// trace_occlusion's do, and rays with tmax <= tmin are not traced (a miss).
+std::vector<Hit> trace_closest(const AnyAccel& accel, std::span<const Ray> rays,
+                               TriangleTest test = TriangleTest::watertight, SimdWidth width = SimdWidth::scalar);
 
 /// Pixels per packet: width x height of the block a packet of `lanes` rays covers.
 constexpr std::pair<std::uint32_t, std::uint32_t> packet_block(std::size_t lanes) {
@@ -49,6 +59,16 @@ decltype(auto) with_triangle_test(TriangleTest test, F&& f) {
     if (test == TriangleTest::moller_trumbore)
         return f(std::integral_constant<TriangleTest, TriangleTest::moller_trumbore>{});
     return f(std::integral_constant<TriangleTest, TriangleTest::watertight>{});
+}
+
+/// Calls f(std::integral_constant<TriangleTest, T>{}, std::integral_constant<SlabTest, S>{}) for
+/// the run-time choices: the 2 x 2 grid of traversal variants the benchmark compares (issue 8).
+template <class F>
+decltype(auto) with_traversal_variant(TriangleTest test, SlabTest slabs, F&& f) {
+    return with_triangle_test(test, [&](auto test_tag) -> decltype(auto) {
+        if (slabs == SlabTest::fast) return f(test_tag, std::integral_constant<SlabTest, SlabTest::fast>{});
+        return f(test_tag, std::integral_constant<SlabTest, SlabTest::robust>{});
+    });
 }
 
 }  // namespace trident

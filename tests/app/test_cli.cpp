@@ -43,7 +43,8 @@ TEST_CASE("bad options and bad input give one line and a non-zero exit") {
              "render teapot --width 0", "render teapot --height 99999", "render teapot --accel nothing",
           "render teapot --mode sepia", "render teapot --simd 7", "render teapot --frobnicate",
           "render /no/such/file.obj", "render " + bad_obj.string(), "render no_such_scene",
-          "info teapot --scenes /no/such/manifest.json", "render teapot --threads -1"}) {
+          "info teapot --scenes /no/such/manifest.json", "render teapot --threads -1",
+          "render teapot --mode ao --ao-samples 0", "render teapot --mode heat --heat leaves"}) {
         CAPTURE(args);
         const Run run = run_trident(args);
         CHECK(run.exit_code != 0);
@@ -73,4 +74,35 @@ TEST_CASE("scenes lists the built-in scenes") {
     const Run run = run_trident("scenes");
     CHECK(run.exit_code == 0);
     CHECK(run.output.find("teapot") != std::string::npos);
+}
+
+TEST_CASE("render --explain prints the plan, one line per pass, and writes nothing") {
+    const auto dir = trident::testing::scratch_dir();
+    const auto png = dir / "explain.png";
+    const Run lit = run_trident("render teapot --explain --output " + png.string());
+    INFO(lit.output);
+    REQUIRE(lit.exit_code == 0);
+    CHECK(lines(lit.output) == 6);  // the title and five passes
+    CHECK(lit.output.find("shadow: any-hit") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(png));
+    const auto obj = trident::testing::write_file("explain_dark.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    const Run dark = run_trident("render " + obj.string() + " --explain");
+    CHECK(dark.exit_code == 0);
+    CHECK(dark.output.find("shadow: skipped (the scene has no light") != std::string::npos);
+    CHECK(dark.output.find("normals: geometric") != std::string::npos);
+}
+
+TEST_CASE("render --mode ao and --mode heat write images of the requested size") {
+    const auto dir = trident::testing::scratch_dir();
+    for (const std::string& mode : {std::string("ao --ao-samples 3"), std::string("heat --heat triangles --simd 4"),
+                                    std::string("heat --simd scalar")}) {
+        CAPTURE(mode);
+        const Run run = run_trident("render teapot --width 80 --height 50 --mode " + mode + " --output " +
+                                    (dir / "m.png").string());
+        INFO(run.output);
+        REQUIRE(run.exit_code == 0);
+        const trident::Image image = trident::read_png(dir / "m.png");
+        CHECK(image.width == 80);
+        CHECK(image.height == 50);
+    }
 }

@@ -28,6 +28,9 @@ const std::vector<std::string> kColumns = {"scene",
                                            "load_ms",
                                            "structure",
                                            "traversal",
+                                           "rays",
+                                           "triangle_test",
+                                           "slabs",
                                            "threads",
                                            "width",
                                            "height",
@@ -174,7 +177,7 @@ TEST_CASE("the console and Markdown carry the Table 2 layout, the configurations
         CHECK(text->find(o.json.at("reference").get<std::string>()) != std::string::npos);
     }
     CHECK(o.markdown.find("| scene | triangles | build BVH | build KD | build Octree |") != std::string::npos);
-    CHECK(o.markdown.find("| scene | structure | traversal | threads |") != std::string::npos);
+    CHECK(o.markdown.find("| scene | structure | traversal | triangle test | slabs | threads |") != std::string::npos);
     CHECK(o.run.out.find("Table 2") != std::string::npos);
     CHECK(o.run.out.find("Every configuration") != std::string::npos);
 }
@@ -269,4 +272,30 @@ TEST_CASE("every runnable packet width gets its own row, traced on the same rays
     std::string joined;
     for (const std::string& t : traversals) joined += (joined.empty() ? "" : ",") + t;
     CHECK(joined == simd);
+}
+
+TEST_CASE("--triangle-test and --slabs lists give one row per variant, each named in its columns") {
+    const fs::path json_path = scratch_dir() / "variants.json";
+    const BenchRun run = run_bench(kTiny +
+                                   "--accel bvh --embree none --threads 1 --reference brute "
+                                   "--triangle-test watertight,moller_trumbore --slabs robust,fast --json " +
+                                   json_path.string());
+    INFO(run.err);
+    REQUIRE(run.exit_code == 0);
+    const auto json = nlohmann::json::parse(trident::testing::read_text(json_path));
+    CHECK(json.at("triangle_test") == "watertight, moller_trumbore");
+    CHECK(json.at("slabs") == "robust, fast");
+    std::vector<std::string> variants;
+    for (const auto& row : json.at("rows")) {
+        CAPTURE(row.dump());
+        variants.push_back(row.at("triangle_test").get<std::string>() + "/" + row.at("slabs").get<std::string>());
+        CHECK(row.at("hit_miss_share").get<double>() < 1e-2);  // the teapot: no variant loses more than an edge
+    }
+    CHECK(variants == std::vector<std::string>{"watertight/robust", "watertight/fast", "moller_trumbore/robust",
+                                               "moller_trumbore/fast"});
+    for (const char* bad : {"--slabs exact", "--triangle-test plucker"}) {
+        CAPTURE(bad);
+        const BenchRun refused = run_bench(kTiny + "--accel bvh " + bad);
+        CHECK(refused.exit_code != 0);
+    }
 }

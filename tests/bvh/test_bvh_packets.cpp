@@ -103,7 +103,8 @@ bool is_tie(const Mesh& mesh, const Ray& ray, const Hit& got, const Hit& expecte
 /// packet may be partial) with the lanes `off` names switched off, closest hit and any hit, and
 /// compares every lane with the single-ray traversal. A lane switched off, or with tmin > tmax,
 /// must keep the record it arrived with and never be occluded.
-template <class Arch, int SingleRayLanes, TriangleTest Test = TriangleTest::watertight>
+template <class Arch, int SingleRayLanes, TriangleTest Test = TriangleTest::watertight,
+          SlabTest Slabs = SlabTest::robust>
 PacketComparison compare_packets(const Bvh& bvh, const Mesh& mesh, std::span<const Ray> rays,
                                  std::size_t rays_per_packet = 0, const LaneFilter& off = {}) {
     constexpr std::size_t width = RayPacket<Arch>::width;
@@ -120,9 +121,9 @@ PacketComparison compare_packets(const Bvh& bvh, const Mesh& mesh, std::span<con
 
         const HitPacket<Arch> arrived(packet);
         HitPacket<Arch> hits(packet);
-        bvh.intersect<Test, Arch, NoCounters, SingleRayLanes>(packet, hits, none);
+        bvh.intersect<Test, Slabs, Arch, NoCounters, SingleRayLanes>(packet, hits, none);
         const std::uint32_t occluded =
-            simd::mask_bits(bvh.occluded<Test, Arch, NoCounters, SingleRayLanes>(packet, none));
+            simd::mask_bits(bvh.occluded<Test, Slabs, Arch, NoCounters, SingleRayLanes>(packet, none));
         const HitLanes<Arch> before(arrived), after(hits);
         std::vector<bool> traced(width);
         for (std::size_t i = 0; i < chunk.size(); ++i) traced[i] = live[i] && chunk[i].tmin <= chunk[i].tmax;
@@ -135,7 +136,7 @@ PacketComparison compare_packets(const Bvh& bvh, const Mesh& mesh, std::span<con
                 continue;
             }
             ++out.lanes;
-            const Hit expected = bvh.intersect<Test>(chunk[i], none);
+            const Hit expected = bvh.intersect<Test, Slabs>(chunk[i], none);
             out.hits += expected.is_hit();
             const Hit got = after.lane(i).is_hit() ? after.lane(i) : Hit{};
             if (!same_bits(got, expected)) {
@@ -146,7 +147,7 @@ PacketComparison compare_packets(const Bvh& bvh, const Mesh& mesh, std::span<con
                     ++out.closest;
                 }
             }
-            out.occluded += bool((occluded >> i) & 1u) != bvh.occluded<Test>(chunk[i], none);
+            out.occluded += bool((occluded >> i) & 1u) != bvh.occluded<Test, Slabs>(chunk[i], none);
         }
     }
     return out;
@@ -154,16 +155,16 @@ PacketComparison compare_packets(const Bvh& bvh, const Mesh& mesh, std::span<con
 
 /// Every packet width this machine runs, each with the single-ray switch off, at its default and
 /// taking every subtree, on the same rays. Returns the ties met (lanes that kept another triangle).
-template <TriangleTest Test = TriangleTest::watertight>
+template <TriangleTest Test = TriangleTest::watertight, SlabTest Slabs = SlabTest::robust>
 std::size_t check_packets(const Bvh& bvh, const Mesh& mesh, std::span<const Ray> rays, const LaneFilter& off = {},
                           std::size_t rays_per_packet = 0) {
     std::size_t ties = 0;
     for_each_packet_arch([&]<class Arch>() {
         constexpr int width = int(RayPacket<Arch>::width);
         for (const PacketComparison& result :
-             {compare_packets<Arch, 0, Test>(bvh, mesh, rays, rays_per_packet, off),
-              compare_packets<Arch, bvh::single_ray_lanes(width), Test>(bvh, mesh, rays, rays_per_packet, off),
-              compare_packets<Arch, width, Test>(bvh, mesh, rays, rays_per_packet, off)}) {
+             {compare_packets<Arch, 0, Test, Slabs>(bvh, mesh, rays, rays_per_packet, off),
+              compare_packets<Arch, bvh::single_ray_lanes(width), Test, Slabs>(bvh, mesh, rays, rays_per_packet, off),
+              compare_packets<Arch, width, Test, Slabs>(bvh, mesh, rays, rays_per_packet, off)}) {
             CHECK(result.hits > 0);
             result.require_agreement();
             ties += result.ties;
@@ -298,6 +299,16 @@ TEST_CASE("packets with the Möller-Trumbore test find its single-ray hits") {
     check_packets<TriangleTest::moller_trumbore>(Bvh::build(mesh), mesh, random_rays(mesh.bounds(), 400, 22));
 }
 
+TEST_CASE("packets with the fast slab test find its single-ray hits, axis-parallel rays included") {
+    const Mesh soup = random_soup(600, 23, 0.15f);
+    check_packets<TriangleTest::watertight, SlabTest::fast>(Bvh::build(soup), soup,
+                                                            random_rays(soup.bounds(), 400, 24));
+    check_packets<TriangleTest::moller_trumbore, SlabTest::fast>(Bvh::build(soup), soup,
+                                                                 rays_of_every_sign({0.05f, -0.1f, 0.2f}, 640, 25));
+    const Mesh lattice = axis_lattice();
+    check_packets<TriangleTest::watertight, SlabTest::fast>(Bvh::build(lattice), lattice, rays_on_lattice_planes());
+}
+
 TEST_CASE("mixed-sign packets, +0 and -0 included, find the single-ray hits") {
     const Mesh mesh = random_soup(600, 41, 0.12f);
     const Bvh bvh = Bvh::build(mesh);
@@ -415,7 +426,8 @@ TEST_CASE("the counters count per packet: at least the busiest lane's work, at m
             ++shared_packets;
             HitPacket<Arch> hits(packet);
             TraversalCounters one_packet, busiest, sum;
-            bvh.intersect<TriangleTest::watertight, Arch, TraversalCounters, 0>(packet, hits, one_packet);
+            bvh.intersect<TriangleTest::watertight, SlabTest::robust, Arch, TraversalCounters, 0>(packet, hits,
+                                                                                                  one_packet);
             for (const Ray& ray : chunk) {
                 TraversalCounters one_ray;
                 bvh.intersect<TriangleTest::watertight>(ray, one_ray);
@@ -449,8 +461,9 @@ TEST_CASE("an any-hit packet stops each lane at its first hit: no more triangle 
         for (std::size_t first = 0; first < rays.size(); first += width) {
             const RayPacket<Arch> packet(std::span<const Ray>(rays).subspan(first, width));
             HitPacket<Arch> hits(packet);
-            bvh.intersect<TriangleTest::watertight, Arch, TraversalCounters, 0>(packet, hits, closest);
-            bvh.occluded<TriangleTest::watertight, Arch, TraversalCounters, 0>(packet, any);
+            bvh.intersect<TriangleTest::watertight, SlabTest::robust, Arch, TraversalCounters, 0>(packet, hits,
+                                                                                                  closest);
+            bvh.occluded<TriangleTest::watertight, SlabTest::robust, Arch, TraversalCounters, 0>(packet, any);
         }
         CHECK(any.triangles_tested < closest.triangles_tested);
         CHECK(any.nodes_visited < closest.nodes_visited);

@@ -75,7 +75,8 @@ struct HitLanes {
 /// be partial) with the lanes `off` names switched off, closest hit and any hit, and compares
 /// every lane with the single-ray traversal. A lane switched off, or with tmin > tmax, must keep
 /// the record it arrived with and never be occluded.
-template <class Arch, int SingleRayLanes, TriangleTest Test = TriangleTest::watertight>
+template <class Arch, int SingleRayLanes, TriangleTest Test = TriangleTest::watertight,
+          SlabTest Slabs = SlabTest::robust>
 PacketComparison compare_packets(const KdTree& tree, std::span<const Ray> rays, std::size_t rays_per_packet = 0,
                                  const LaneFilter& off = {}) {
     constexpr std::size_t width = RayPacket<Arch>::width;
@@ -92,9 +93,9 @@ PacketComparison compare_packets(const KdTree& tree, std::span<const Ray> rays, 
 
         const HitPacket<Arch> arrived(packet);
         HitPacket<Arch> hits(packet);
-        tree.intersect<Test, Arch, NoCounters, SingleRayLanes>(packet, hits, none);
+        tree.intersect<Test, Slabs, Arch, NoCounters, SingleRayLanes>(packet, hits, none);
         const std::uint32_t occluded =
-            simd::mask_bits(tree.occluded<Test, Arch, NoCounters, SingleRayLanes>(packet, none));
+            simd::mask_bits(tree.occluded<Test, Slabs, Arch, NoCounters, SingleRayLanes>(packet, none));
         const HitLanes<Arch> before(arrived), after(hits);
         for (std::size_t i = 0; i < width; ++i) {
             if (!(i < chunk.size() && live[i] && chunk[i].tmin <= chunk[i].tmax)) {
@@ -103,11 +104,11 @@ PacketComparison compare_packets(const KdTree& tree, std::span<const Ray> rays, 
                 continue;
             }
             ++out.lanes;
-            const Hit expected = tree.intersect<Test>(chunk[i], none);
+            const Hit expected = tree.intersect<Test, Slabs>(chunk[i], none);
             out.hits += expected.is_hit();
             const Hit got = after.lane(i).is_hit() ? after.lane(i) : Hit{};
             out.closest += !same_bits(got, expected);
-            out.occluded += bool((occluded >> i) & 1u) != tree.occluded<Test>(chunk[i], none);
+            out.occluded += bool((occluded >> i) & 1u) != tree.occluded<Test, Slabs>(chunk[i], none);
         }
     }
     return out;
@@ -115,15 +116,15 @@ PacketComparison compare_packets(const KdTree& tree, std::span<const Ray> rays, 
 
 /// Every packet width this machine runs, each with the single-ray switch off, at a quarter of the
 /// width and taking every subtree, on the same rays.
-template <TriangleTest Test = TriangleTest::watertight>
+template <TriangleTest Test = TriangleTest::watertight, SlabTest Slabs = SlabTest::robust>
 void check_packets(const KdTree& tree, std::span<const Ray> rays, const LaneFilter& off = {},
                    std::size_t rays_per_packet = 0) {
     for_each_packet_arch([&]<class Arch>() {
         constexpr int width = int(RayPacket<Arch>::width);
         for (const PacketComparison& result :
-             {compare_packets<Arch, 0, Test>(tree, rays, rays_per_packet, off),
-              compare_packets<Arch, width / 4, Test>(tree, rays, rays_per_packet, off),
-              compare_packets<Arch, width, Test>(tree, rays, rays_per_packet, off)}) {
+             {compare_packets<Arch, 0, Test, Slabs>(tree, rays, rays_per_packet, off),
+              compare_packets<Arch, width / 4, Test, Slabs>(tree, rays, rays_per_packet, off),
+              compare_packets<Arch, width, Test, Slabs>(tree, rays, rays_per_packet, off)}) {
             CHECK(result.hits > 0);
             result.require_agreement();
         }
@@ -270,6 +271,17 @@ TEST_CASE("packets of rays lying in split planes, +0 and -0 mixed in, find the s
     }
 }
 
+TEST_CASE("packets with the fast slab test find its single-ray hits, rays in split planes included") {
+    const Mesh soup = random_soup(600, 23, 0.15f);
+    const KdTree tree = KdTree::build(soup);
+    check_packets<TriangleTest::watertight, SlabTest::fast>(tree, random_rays(soup.bounds(), 400, 24));
+    check_packets<TriangleTest::moller_trumbore, SlabTest::fast>(tree,
+                                                                 rays_of_every_sign({0.05f, -0.1f, 0.2f}, 640, 25));
+    const Mesh boxes = grid_boxes(60, 31);
+    const KdTree box_tree = KdTree::build(boxes);
+    check_packets<TriangleTest::watertight, SlabTest::fast>(box_tree, split_plane_bundles(box_tree, 60, 33));
+}
+
 TEST_CASE("mixed-sign packets, +0 and -0 included, find the single-ray hits") {
     const Mesh mesh = random_soup(600, 41, 0.12f);
     const KdTree tree = KdTree::build(mesh);
@@ -335,7 +347,8 @@ constexpr std::size_t kLargestScene = 400'000;  // the sanitizers slow building 
 constexpr std::size_t kLargestScene = std::numeric_limits<std::size_t>::max();
 #endif
 
-TEST_CASE("camera pixel blocks of every built-in scene (2x2, 4x2, 4x4) and random camera rays find the single-ray hits") {
+TEST_CASE(
+    "camera pixel blocks of every built-in scene (2x2, 4x2, 4x4) and random camera rays find the single-ray hits") {
     for (const BuiltinSceneInfo& info : builtin_scenes()) {
         CAPTURE(info.name);
         if (info.triangles > kLargestScene) continue;
@@ -346,8 +359,8 @@ TEST_CASE("camera pixel blocks of every built-in scene (2x2, 4x2, 4x4) and rando
             const std::vector<Ray> blocks = pixel_block_rays(scene.camera, block_w, block_h, 40, 91);
             const std::vector<Ray> random = camera_rays(scene.camera, 160, 92);
             for (const std::span<const Ray> rays : {std::span<const Ray>(blocks), std::span<const Ray>(random)}) {
-                for (const PacketComparison& result : {compare_packets<Arch, 0>(tree, rays),
-                                                       compare_packets<Arch, width / 4>(tree, rays)}) {
+                for (const PacketComparison& result :
+                     {compare_packets<Arch, 0>(tree, rays), compare_packets<Arch, width / 4>(tree, rays)}) {
                     CHECK(result.hits > 0);
                     result.require_agreement();
                 }
@@ -370,7 +383,8 @@ TEST_CASE("the counters count per packet: at least the busiest lane's work, at m
             ++shared_packets;
             HitPacket<Arch> hits(packet);
             TraversalCounters one_packet, busiest, sum;
-            tree.intersect<TriangleTest::watertight, Arch, TraversalCounters, 0>(packet, hits, one_packet);
+            tree.intersect<TriangleTest::watertight, SlabTest::robust, Arch, TraversalCounters, 0>(packet, hits,
+                                                                                                   one_packet);
             for (std::size_t i = first; i < first + width; ++i) {
                 TraversalCounters one_ray;
                 tree.intersect<TriangleTest::watertight>(rays[i], one_ray);
@@ -380,8 +394,8 @@ TEST_CASE("the counters count per packet: at least the busiest lane's work, at m
             }
             below_busiest += one_packet.nodes_visited < busiest.nodes_visited ||
                              one_packet.triangles_tested < busiest.triangles_tested;
-            above_sum += one_packet.nodes_visited > sum.nodes_visited ||
-                         one_packet.triangles_tested > sum.triangles_tested;
+            above_sum +=
+                one_packet.nodes_visited > sum.nodes_visited || one_packet.triangles_tested > sum.triangles_tested;
             packets += one_packet;
             lanes += sum;
         }
@@ -403,8 +417,9 @@ TEST_CASE("an any-hit packet retires each lane at its first hit: less work than 
         for (std::size_t first = 0; first < rays.size(); first += width) {
             const RayPacket<Arch> packet(std::span<const Ray>(rays).subspan(first, width));
             HitPacket<Arch> hits(packet);
-            tree.intersect<TriangleTest::watertight, Arch, TraversalCounters, 0>(packet, hits, closest);
-            (void)tree.occluded<TriangleTest::watertight, Arch, TraversalCounters, 0>(packet, any);
+            tree.intersect<TriangleTest::watertight, SlabTest::robust, Arch, TraversalCounters, 0>(packet, hits,
+                                                                                                   closest);
+            (void)tree.occluded<TriangleTest::watertight, SlabTest::robust, Arch, TraversalCounters, 0>(packet, any);
         }
         CHECK(any.triangles_tested < closest.triangles_tested);
         CHECK(any.nodes_visited < closest.nodes_visited);

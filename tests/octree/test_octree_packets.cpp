@@ -80,7 +80,7 @@ struct HitLanes {
 /// traversal. A lane switched off, or with tmin > tmax, must keep the record it arrived with.
 /// With `single_ray_lanes`, traces through traverse_octree_packet() with that switch to single
 /// rays instead of the structure's members.
-template <class Arch, TriangleTest Test = TriangleTest::watertight>
+template <class Arch, TriangleTest Test = TriangleTest::watertight, SlabTest Slabs = SlabTest::robust>
 PacketComparison compare_packets(const Octree& tree, std::span<const Ray> rays, std::size_t rays_per_packet = 0,
                                  const LaneFilter& off = {}, std::optional<int> single_ray_lanes = {}) {
     constexpr std::size_t width = RayPacket<Arch>::width;
@@ -99,13 +99,14 @@ PacketComparison compare_packets(const Octree& tree, std::span<const Ray> rays, 
         HitPacket<Arch> hits(packet);
         std::uint32_t occluded = 0;
         if (single_ray_lanes) {
-            traverse_octree_packet<OctreeQuery::closest_hit, Test>(tree.view(), packet, hits, none, *single_ray_lanes);
+            traverse_octree_packet<OctreeQuery::closest_hit, Test, Slabs>(tree.view(), packet, hits, none,
+                                                                          *single_ray_lanes);
             HitPacket<Arch> any(packet);
-            occluded = simd::mask_bits(
-                traverse_octree_packet<OctreeQuery::any_hit, Test>(tree.view(), packet, any, none, *single_ray_lanes));
+            occluded = simd::mask_bits(traverse_octree_packet<OctreeQuery::any_hit, Test, Slabs>(
+                tree.view(), packet, any, none, *single_ray_lanes));
         } else {
-            tree.intersect<Test>(packet, hits, none);
-            occluded = simd::mask_bits(tree.occluded<Test>(packet, none));
+            tree.intersect<Test, Slabs>(packet, hits, none);
+            occluded = simd::mask_bits(tree.occluded<Test, Slabs>(packet, none));
         }
         const HitLanes<Arch> before(arrived), after(hits);
 
@@ -117,8 +118,8 @@ PacketComparison compare_packets(const Octree& tree, std::span<const Ray> rays, 
                 continue;
             }
             ++out.lanes;
-            const Hit expected = live[i] ? tree.intersect<Test>(chunk[i], none) : Hit{};
-            const bool expected_occluded = live[i] && tree.occluded<Test>(chunk[i], none);
+            const Hit expected = live[i] ? tree.intersect<Test, Slabs>(chunk[i], none) : Hit{};
+            const bool expected_occluded = live[i] && tree.occluded<Test, Slabs>(chunk[i], none);
             out.hits += expected.is_hit();
             const Hit got = after.lane(i).is_hit() ? after.lane(i) : Hit{};
             out.closest += !same_bits(got, expected);
@@ -129,10 +130,10 @@ PacketComparison compare_packets(const Octree& tree, std::span<const Ray> rays, 
 }
 
 /// Every packet width this machine runs, each on the same rays.
-template <TriangleTest Test = TriangleTest::watertight>
+template <TriangleTest Test = TriangleTest::watertight, SlabTest Slabs = SlabTest::robust>
 void check_packets(const Octree& tree, std::span<const Ray> rays, const LaneFilter& off = {}) {
     for_each_packet_arch([&]<class Arch>() {
-        const PacketComparison result = compare_packets<Arch, Test>(tree, rays, 0, off);
+        const PacketComparison result = compare_packets<Arch, Test, Slabs>(tree, rays, 0, off);
         CHECK(result.hits > 0);
         result.require_agreement();
     });
@@ -205,6 +206,15 @@ TEST_CASE("packets of incoherent rays give the single-ray hits bit for bit, at e
 TEST_CASE("packets with the Möller-Trumbore test give its single-ray hits bit for bit") {
     const Mesh mesh = random_soup(500, 21, 0.15f);
     check_packets<TriangleTest::moller_trumbore>(Octree::build(mesh, {}), random_rays(mesh.bounds(), 400, 22));
+}
+
+TEST_CASE("packets with the fast slab test (no widened cell exit) give its single-ray hits bit for bit") {
+    const Mesh mesh = random_soup(500, 23, 0.15f);
+    check_packets<TriangleTest::watertight, SlabTest::fast>(Octree::build(mesh, {}),
+                                                            random_rays(mesh.bounds(), 400, 24));
+    const Mesh grid = flat_grid(16);
+    const Octree tree = Octree::build(grid, {.max_depth = 6});
+    check_packets<TriangleTest::moller_trumbore, SlabTest::fast>(tree, rays_along_the_planes(tree, 8, 3));
 }
 
 TEST_CASE("packets of rays through node centres, in centre planes and along cell edges match single rays") {

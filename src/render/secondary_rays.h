@@ -1,0 +1,67 @@
+#pragma once
+// Secondary rays made from primary hits: shadow rays toward a point light and cosine-distributed
+// rays about a normal, with origins pushed off the surface (core/ray_offset.h). Rays come in the
+// order of the primary packets that made the hits (tile by tile, packet block by packet block),
+// so a run of `lanes` consecutive rays starts from neighbouring pixels.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "camera/camera.h"
+#include "core/mesh.h"
+#include "core/ray.h"
+#include "render/hemisphere_sample.h"
+
+namespace trident {
+
+/// Side of the square image tiles the renderer hands to threads; a multiple of every packet block.
+inline constexpr std::uint32_t kRenderTileSize = 16;
+
+struct ImageTile {
+    std::uint32_t x0, y0, x1, y1;  // [x0, x1) x [y0, y1)
+};
+
+std::size_t tile_count(const Camera& camera);
+ImageTile tile_at(const Camera& camera, std::size_t index);
+/// Runs per_tile(ImageTile) over the image's tiles on oneTBB's threads. A tile's work depends only on
+/// the tile, so results do not change with the thread count or the order tiles run in.
+template <class PerTile>
+void for_each_image_tile(const Camera& camera, PerTile&& per_tile) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tile_count(camera)), [&](const auto& range) {
+        for (std::size_t t = range.begin(); t != range.end(); ++t) per_tile(tile_at(camera, t));
+    });
+}
+
+/// The tile's pixel indices in the order packets of `lanes` rays take them (row order for 1).
+std::vector<std::uint32_t> pixels_in_packet_order(const Camera& camera, const ImageTile& tile, std::size_t lanes);
+
+/// The unit geometric normal of a triangle turned to face the incoming direction.
+Vec3f facing_geometric_normal(const Mesh& mesh, TriangleId triangle, const Vec3f& incoming);
+
+/// From the hit of `primary` to the light; tmax = tmin = 0 (nothing to trace, in shadow) when the
+/// light is behind the surface as the ray saw it. The ray stops just short of the light.
+Ray shadow_ray(const Mesh& mesh, const Ray& primary, const Hit& hit, const Vec3f& light);
+
+/// A cosine-distributed ray about `about` (unit, on the incoming side) from the hit point, origin
+/// offset along the facing geometric normal `ng`; tmax = tmin = 0 when the direction dives below
+/// the geometric surface (an interpolated normal can lean past it): that ray counts as blocked.
+Ray hemisphere_ray(const Vec3f& point, const Vec3f& ng, const Vec3f& about, UniformPair u, float tmax);
+
+/// Rays for a whole image in packet order, with the pixel each came from.
+struct SecondaryRays {
+    std::vector<Ray> rays;
+    std::vector<std::uint32_t> pixel;
+};
+
+/// One shadow ray per primary hit (misses make none).
+SecondaryRays make_shadow_rays(const Mesh& mesh, const Camera& camera, std::span<const Hit> hits, const Vec3f& light,
+                               std::size_t lanes);
+/// One closest-hit diffuse ray (tmax infinite) per primary hit about the facing geometric normal,
+/// sample 0 of each pixel under `seed`.
+SecondaryRays make_diffuse_rays(const Mesh& mesh, const Camera& camera, std::span<const Hit> hits, std::size_t lanes,
+                                std::uint64_t seed = 0);
+
+}  // namespace trident

@@ -1,0 +1,146 @@
+#include <doctest/doctest.h>
+
+#include <random>
+
+#include "render/ray_stream.h"
+#include "render/render_plan.h"
+#include "render/secondary_rays.h"
+#include "render/shade.h"
+#include "render/trace.h"
+#include "render_test_scenes.h"
+#include "scenes/builtin.h"
+
+using namespace trident;
+using trident::testing::add_floor_quad;
+using trident::testing::runnable_widths;
+
+namespace {
+
+/// A floor at y = 0, a square roof of side 2 at y = 1 over the origin, a wall at x = 8 facing
+/// +-x, and the light at (0, 5, 0) above the roof.
+Scene shadow_box() {
+    Scene scene;
+    scene.name = "shadow box";
+    add_floor_quad(scene.mesh, -10, 10, -10, 10, 0);
+    add_floor_quad(scene.mesh, -1, 1, -1, 1, 1);
+    const auto a = scene.mesh.add_vertex({8, 0, -1}), b = scene.mesh.add_vertex({8, 3, -1});
+    const auto c = scene.mesh.add_vertex({8, 3, 1}), d = scene.mesh.add_vertex({8, 0, 1});
+    scene.mesh.add_triangle(a, b, c);
+    scene.mesh.add_triangle(a, c, d);
+    scene.light = PointLight{{0, 5, 0}};
+    return scene;
+}
+
+}  // namespace
+
+TEST_CASE("shadow rays: full light, a known shadow, and a surface facing away, for every structure and width") {
+    const Scene scene = shadow_box();
+    const Vec3f light = scene.light->position;
+    // Primary rays: onto the open floor; onto the floor under the roof (from below the roof);
+    // onto the wall's far side (the light is behind it).
+    const Ray open_floor{{5, 10, 5}, {0, -1, 0}};
+    const Ray under_roof{{0.3f, 0.5f, 0.2f}, {0, -1, 0}};
+    const Ray wall_back{{9, 1, 0}, {-1, 0, 0}};
+    for (AccelKind kind : built_accel_kinds()) {
+        const AnyAccel accel = AnyAccel::build(kind, scene.mesh);
+        std::vector<Ray> shadow;
+        for (const Ray& primary : {open_floor, under_roof, wall_back}) {
+            NoCounters counters;
+            const Hit hit = accel.visit([&](const auto& s) { return s.template intersect<TriangleTest::watertight>(primary, counters); });
+            REQUIRE(hit.is_hit());
+            shadow.push_back(shadow_ray(scene.mesh, primary, hit, light));
+        }
+        CHECK(shadow[0].tmax > shadow[0].tmin);
+        CHECK(shadow[1].tmax > shadow[1].tmin);
+        CHECK_FALSE(shadow[2].tmax > shadow[2].tmin);  // facing away: no ray, in shadow
+        for (SimdWidth width : runnable_widths()) {
+            if (!has_packet_traversal(accel, width)) continue;
+            CAPTURE(to_string(kind));
+            CAPTURE(to_string(width));
+            std::vector<std::uint8_t> occluded(shadow.size(), 7);
+            occlude_stream(accel, shadow, occluded, {width, PacketGrouping::in_order});
+            CHECK(occluded[0] == 0);
+            CHECK(occluded[1] == 1);
+            CHECK(occluded[2] == 0);  // not traced
+        }
+    }
+}
+
+TEST_CASE("shadow rays: a flat lit plane far from the origin has no self-shadowed pixel (no acne)") {
+    Scene scene;
+    scene.name = "plane";
+    // A 24x24 grid of quads around (1000, 37, -2000): large coordinates, many shared edges.
+    const Vec3f c{1000.0f, 37.0f, -2000.0f};
+    for (int i = 0; i < 24; ++i)
+        for (int j = 0; j < 24; ++j)
+            add_floor_quad(scene.mesh, c.x - 12 + float(i), c.x - 11 + float(i), c.z - 12 + float(j), c.z - 11 + float(j), c.y);
+    scene.light = PointLight{c + Vec3f{30.0f, 4.0f, 20.0f}};  // low: shadow rays graze the plane
+    scene.camera = CameraSpec{c + Vec3f{0.0f, 6.0f, 14.0f}, c, {0, 1, 0}, 60.0f};
+    const Camera camera(scene.camera, 48, 32);
+    for (AccelKind kind : built_accel_kinds()) {
+        const AnyAccel accel = AnyAccel::build(kind, scene.mesh);
+        for (SimdWidth width : runnable_widths()) {
+            if (!has_packet_traversal(accel, width)) continue;
+            CAPTURE(to_string(kind));
+            CAPTURE(to_string(width));
+            RenderRequest request;
+            request.width = width;
+            const RenderPlan plan = make_render_plan(scene, request);
+            REQUIRE(plan.shadow_pass);
+            const std::vector<Hit> hits = trace_primary(accel, camera, TriangleTest::watertight, width);
+            const std::vector<std::uint8_t> lit = light_visibility(scene, accel, camera, hits, plan);
+            std::size_t hit_pixels = 0, dark = 0;
+            for (std::size_t i = 0; i < hits.size(); ++i)
+                if (hits[i].is_hit()) {
+                    ++hit_pixels;
+                    dark += !lit[i];
+                }
+            CHECK(hit_pixels > hits.size() / 2);
+            CHECK(dark == 0);
+        }
+    }
+}
+
+TEST_CASE("occlusion agrees with closest hit on incoherent rays, for every structure, width and grouping") {
+    const Scene scene = make_builtin_scene("teapot");
+    const Camera camera(scene.camera, 40, 24);
+    const AnyAccel bvh = AnyAccel::build(AccelKind::bvh, scene.mesh);
+    const std::vector<Hit> primary = trace_primary(bvh, camera);
+    SecondaryRays diffuse = make_diffuse_rays(scene.mesh, camera, primary, 1, 11);
+    REQUIRE(diffuse.rays.size() > 100);
+    // Finite ends, so some rays stop short of what they would hit.
+    std::mt19937 rng(5);
+    const float diagonal = length(scene.mesh.bounds().extent());
+    std::uniform_real_distribution<float> end(0.0f, 0.5f * diagonal);
+    for (std::size_t i = 0; i < diffuse.rays.size(); ++i)
+        if (i % 3 != 0) diffuse.rays[i].tmax = end(rng);
+    for (AccelKind kind : built_accel_kinds()) {
+        const AnyAccel accel = AnyAccel::build(kind, scene.mesh);
+        std::vector<Hit> scalar_hits(diffuse.rays.size());
+        intersect_stream(accel, diffuse.rays, scalar_hits, {});
+        std::size_t occluded_count = 0;
+        for (SimdWidth width : runnable_widths()) {
+            if (!has_packet_traversal(accel, width)) continue;
+            for (PacketGrouping grouping : {PacketGrouping::in_order, PacketGrouping::by_octant}) {
+                CAPTURE(to_string(kind));
+                CAPTURE(to_string(width));
+                CAPTURE(to_string(grouping));
+                std::vector<std::uint8_t> occluded(diffuse.rays.size());
+                std::vector<Hit> hits(diffuse.rays.size());
+                occlude_stream_parallel(accel, diffuse.rays, occluded, {width, grouping});
+                intersect_stream_parallel(accel, diffuse.rays, hits, {width, grouping});
+                std::size_t disagree = 0, differ_from_scalar = 0;
+                occluded_count = 0;
+                for (std::size_t i = 0; i < hits.size(); ++i) {
+                    disagree += bool(occluded[i]) != hits[i].is_hit();
+                    differ_from_scalar += hits[i].triangle != scalar_hits[i].triangle || hits[i].t != scalar_hits[i].t;
+                    occluded_count += occluded[i];
+                }
+                CHECK(disagree == 0);
+                CHECK(differ_from_scalar == 0);
+            }
+        }
+        CHECK(occluded_count > 0);                    // the test sees both answers
+        CHECK(occluded_count < diffuse.rays.size());
+    }
+}
