@@ -17,6 +17,7 @@
 #include "bench/scene_selection.h"
 #include "bench/statistics.h"
 #include "camera/camera.h"
+#include "render/heat_map.h"
 #include "render/hit_buffer.h"
 #include "render/ray_stream.h"
 #include "render/render_plan.h"
@@ -25,6 +26,35 @@
 
 namespace trident::bench {
 namespace {
+
+struct PerRayCounts {
+    double nodes = 0.0, triangles = 0.0;
+};
+
+/// Nodes visited and triangles tested per primary ray. count_primary_rays gives every pixel of a
+/// packet its packet's count; each pixel here takes its share, 1 / (rays in its packet), so the
+/// sum is the packets' total. Blocks are aligned to the image (trace_primary's tiles are multiples
+/// of every block), so a pixel's packet is the block around it, cut at the image's edges.
+PerRayCounts count_per_ray(const AnyAccel& accel, const Camera& camera, SimdWidth width, TriangleTest test,
+                           SlabTest slabs) {
+    const std::vector<TraversalCounters> counts = width == SimdWidth::scalar
+                                                      ? count_primary(accel, camera, test, slabs)
+                                                      : count_primary_rays(accel, camera, width, test);
+    const auto [block_w, block_h] =
+        width == SimdWidth::scalar ? std::pair{1u, 1u} : packet_block(lane_count(width));
+    const std::uint32_t w = camera.width(), h = camera.height();
+    PerRayCounts sum;
+    for (std::uint32_t y = 0; y < h; ++y)
+        for (std::uint32_t x = 0; x < w; ++x) {
+            const std::uint32_t x0 = x - x % block_w, y0 = y - y % block_h;
+            const double lanes = double(std::min(block_w, w - x0) * std::min(block_h, h - y0));
+            const TraversalCounters& c = counts[std::size_t(y) * w + x];
+            sum.nodes += double(c.nodes_visited) / lanes;
+            sum.triangles += double(c.triangles_tested) / lanes;
+        }
+    const double rays = double(w) * double(h);
+    return {sum.nodes / rays, sum.triangles / rays};
+}
 
 /// One structure with the options it is built with: the defaults, or one value of a sweep.
 struct StructureConfig {
@@ -335,13 +365,14 @@ private:
         row.max_depth = stats.max_depth;
         row.sah_cost = stats.sah_cost;
         row.bytes = stats.bytes;
-        // count_primary traces single rays: packet rows leave the per-ray counts empty.
-        if (traversal == Traversal::scalar) {
+        // A separate counting pass. Packet rows count a node (or triangle) once per packet that
+        // visits it, divided among the packet's rays; the packet counting pass has the robust
+        // slab test only, so packet rows with fast slabs leave the counts empty.
+        if (traversal == Traversal::scalar || slabs == SlabTest::robust) {
             progress_.show(fmt::format("{} {}: counting", what, row.traversal));
-            TraversalCounters total;
-            for (const TraversalCounters& counters : count_primary(accel, run.camera, test, slabs)) total += counters;
-            row.nodes_per_ray = double(total.nodes_visited) / row.rays();
-            row.triangles_per_ray = double(total.triangles_tested) / row.rays();
+            const PerRayCounts counts = count_per_ray(accel, run.camera, simd_width(traversal), test, slabs);
+            row.nodes_per_ray = counts.nodes;
+            row.triangles_per_ray = counts.triangles;
         }
         if (config.sweep_value) {
             row.sweep_parameter = options_.sweep->parameter;

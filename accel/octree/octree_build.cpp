@@ -41,6 +41,15 @@ float cell_widening(const OctreeCube& cube) {
     return cube.size * 0x1p-16f + max_abs_coordinate(cube.lo, cube.lo + Vec3f(cube.size)) * 0x1p-20f;
 }
 
+/// The deepest level whose cells stay at least 16 times the widening above. Far from the origin
+/// the widening's second term (a few ulps of the coordinates) can exceed a deep cell's size; every
+/// triangle would then be referenced by every nearby cell and the traversal would step through
+/// cells smaller than the ray's rounding, so the default depth stops there instead.
+int precision_depth_limit(const OctreeCube& cube) {
+    const double cells_across = double(cube.size) / (16.0 * double(cell_widening(cube)));
+    return cells_across < 2.0 ? 1 : std::max(1, int(std::floor(std::log2(cells_across))));
+}
+
 struct BuildContext {
     std::span<const Triangle> triangles;
     std::size_t min_primitives;
@@ -267,7 +276,9 @@ OctreeLayout build_octree_layout(std::span<const Triangle> triangles, const Octr
     for (std::size_t i = 0; i < triangles.size(); ++i)
         if (is_finite(triangles[i])) finite.push_back(std::uint32_t(i));
     MortonSorted sorted = sort_by_morton_key(triangles, std::move(finite), layout.cube);
-    layout.max_depth = options.max_depth != 0 ? options.max_depth : default_octree_depth(sorted.keys);
+    layout.max_depth = options.max_depth != 0
+                           ? options.max_depth
+                           : std::min(default_octree_depth(sorted.keys), precision_depth_limit(layout.cube));
     layout.triangle_ids = std::move(sorted.indices);
     layout.triangles.reserve(layout.triangle_ids.size());
     for (TriangleId id : layout.triangle_ids) layout.triangles.push_back(triangles[id]);

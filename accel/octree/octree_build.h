@@ -50,7 +50,8 @@ OctreeCube octree_root_cube(std::span<const Triangle> triangles);
 /// scenes: Teapot 5, Bunny 7, Sponza, Dragon, Gallery and Buddha 8, Room 9 (its clusters of tiny
 /// triangles would ask for more). Each traces within ~10% of its fastest depth, without the
 /// deeper trees' 2-3 times longer builds. The reference study fixed 5 for the Teapot, 7 for
-/// Sponza and 8 for the rest.
+/// Sponza and 8 for the rest. The build then lowers it where cells would shrink towards the
+/// coordinates' rounding (small meshes far from the origin).
 int default_octree_depth(std::span<const std::uint32_t> sorted_morton_keys);
 
 /// Counted while building; deterministic whatever the thread count.

@@ -267,7 +267,14 @@ TEST_CASE("every runnable packet width gets its own row, traced on the same rays
         // Against the scalar brute force: the packet path must find the same triangles.
         CHECK(row.at("hit_miss_share").get<double>() < 1e-3);
         CHECK(row.at("triangle_share").get<double>() < 1e-3);
-        CHECK(row.at("nodes_per_ray").is_null() == (row.at("traversal") != "scalar"));
+        // The brute force tests every triangle once per ray, or once per packet: 2x2, 4x2 or 4x4
+        // pixel blocks over the 32x18 image, cut at its bottom edge.
+        const std::string traversal = row.at("traversal");
+        const int lanes = traversal == "scalar" ? 1 : std::stoi(traversal.substr(4));
+        const int block_w = lanes == 1 ? 1 : lanes == 4 ? 2 : 4, block_h = lanes / block_w;
+        const double packets = double(((32 + block_w - 1) / block_w) * ((18 + block_h - 1) / block_h));
+        CHECK(row.at("triangles_per_ray").get<double>() ==
+              doctest::Approx(double(teapot_triangles()) * packets / (32.0 * 18.0)));
     }
     std::string joined;
     for (const std::string& t : traversals) joined += (joined.empty() ? "" : ",") + t;

@@ -224,7 +224,20 @@ TEST_CASE("the default depth is the shallowest whose occupied cells hold 10 tria
     CHECK(depth_of(flat_grid(128)) == 6);
     CHECK(depth_of(Mesh{}) == 1);
     CHECK(depth_of(collapsed_to_point(10, {1, 2, 3})) == 1);
-    CHECK(depth_of(collapsed_to_point(11, {1, 2, 3})) == 9);  // never fewer than 11 a cell: clamped
+    // Never fewer than 11 a cell would ask for the deepest default, 9, but the cube around a point
+    // is a hair wide: cells that deep would be smaller than the coordinates' rounding.
+    CHECK(depth_of(collapsed_to_point(11, {1, 2, 3})) == 1);
+}
+
+TEST_CASE("far from the origin the default depth stops where cells near the coordinates' rounding") {
+    auto depth_of = [](const Mesh& mesh) { return Octree::build(mesh, {}).max_depth(); };
+    Mesh far = flat_grid(64);
+    const int near_depth = depth_of(far);
+    for (std::size_t i = 0; i < far.vertex_count(); ++i) far.x[i] += 1e6f;
+    const Octree tree = Octree::build(far, {});
+    CHECK(tree.max_depth() < near_depth);
+    CHECK(tree.max_depth() >= 1);
+    check_every_overlap_is_referenced(tree);
 }
 
 TEST_CASE("occupied cells are counted per depth from sorted Morton keys") {

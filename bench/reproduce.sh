@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Re-measures every table and chart of bench/RESULTS.md on this machine, in order (about 35
+# minutes on 2 cores). Run from the repository root after `bash run.sh test` (or any Release
+# build in build/), with ../shared beside the repository and nothing else running.
+set -euo pipefail
+bench=build/trident-bench
+scenes=../shared/scenes/scenes.json
+out=bench/results
+python=/usr/bin/python3  # Debian's, which has matplotlib
+mkdir -p "$out" bench/charts
+
+# Study Table 2: every structure, scalar and each packet width, 1 and 2 threads, Embree beside.
+$bench --scenes $scenes --simd scalar,simd4,simd8,simd16 --threads 1,2 --embree 1,4,8,16 \
+    --json $out/study.json --markdown $out/study.md --csv $out/study.csv
+
+# Shadow and diffuse rays beside primary (issue 9), 2 threads.
+$bench --scenes $scenes --rays primary,shadow,diffuse --simd scalar,simd8,simd16 --threads 2 --embree 1,8,16 \
+    --json $out/ray_kinds.json --markdown $out/ray_kinds.md --csv $out/ray_kinds.csv
+
+# Speed against error: both triangle tests and both slab tests, at half resolution.
+$bench --scenes $scenes --triangle-test watertight,moller_trumbore --slabs robust,fast --simd scalar,simd16 \
+    --threads 2 --embree 1 --width 960 --height 540 \
+    --json $out/variants.json --markdown $out/variants.md --csv $out/variants.csv
+
+# Sweeps on the built-in scenes (the study's Figure 16 for the octree depth); small images because
+# a depth of 1 or 2 on a million triangles is close to brute force.
+for sweep in octree-depth bvh-buckets bvh-cost kd-cost kd-empty-bonus; do
+    $bench --sweep $sweep --width 320 --height 180 --repeats 5 --threads 2 --embree none \
+        --json $out/sweep_$sweep.json --markdown $out/sweep_$sweep.md --csv $out/sweep_$sweep.csv
+    $python bench/plot.py $out/sweep_$sweep.json --out bench/charts/sweeps
+done
+
+# Charts of the main runs last (each run of plot.py rewrites the charts its input has).
+$python bench/plot.py $out/variants.json --out bench/charts/variants
+$python bench/plot.py $out/study.json --out bench/charts
