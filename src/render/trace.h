@@ -1,6 +1,6 @@
 #pragma once
-// Tracing many rays over all cores: primary rays of a camera image, and batches of arbitrary rays
-// (shadow rays). Image tiles of 16x16 pixels are spread over oneTBB's threads; the caller sets the
+// Tracing the primary rays of a camera image over all cores; lists of other rays go through
+// ray_stream.h. Image tiles of 16x16 pixels are spread over oneTBB's threads; the caller sets the
 // thread count (tbb::global_control).
 #include <span>
 #include <utility>
@@ -35,17 +35,6 @@ bool has_packet_traversal(const AnyAccel& accel, SimdWidth width);
 std::vector<TraversalCounters> count_primary(const AnyAccel& accel, const Camera& camera,
                                              TriangleTest test = TriangleTest::watertight,
                                              SlabTest slabs = SlabTest::robust);
-
-/// Any-hit for each ray; rays with tmax <= tmin are not traced and count as unoccluded.
-/// Packets gather consecutive traced rays (image order keeps shadow rays of neighbouring pixels together).
-std::vector<std::uint8_t> trace_occlusion(const AnyAccel& accel, std::span<const Ray> rays,
-                                          TriangleTest test = TriangleTest::watertight,
-                                          SimdWidth width = SimdWidth::scalar, SlabTest slabs = SlabTest::robust);
-
-/// Closest hit of each ray, in the rays' order; packets gather consecutive traced rays as
-/// trace_occlusion's do, and rays with tmax <= tmin are not traced (a miss).
-std::vector<Hit> trace_closest(const AnyAccel& accel, std::span<const Ray> rays,
-                               TriangleTest test = TriangleTest::watertight, SimdWidth width = SimdWidth::scalar);
 
 /// Pixels per packet: width x height of the block a packet of `lanes` rays covers.
 constexpr std::pair<std::uint32_t, std::uint32_t> packet_block(std::size_t lanes) {

@@ -8,7 +8,7 @@
 #include <span>
 
 #include "core/reference.h"
-#include "render/trace.h"
+#include "render/ray_stream.h"
 #include "stress/hit_judge.h"
 
 namespace trident {
@@ -134,11 +134,13 @@ void run_stress_case(const StressCase& stress_case, const StressRunOptions& opti
                 tally.rays = ray_count;
                 const auto start = std::chrono::steady_clock::now();
                 if (query == StressQuery::closest_hit) {
-                    const std::vector<Hit> hits = trace_closest(accel, rays, options.test, width);
+                    std::vector<Hit> hits(rays.size());
+                    intersect_stream_parallel(accel, rays, hits, {width, PacketGrouping::in_order}, options.test);
                     tally.trace_seconds = seconds_since(start);
                     judge_closest(stress_case, reference, hits, tally);
                 } else {
-                    const std::vector<std::uint8_t> occluded = trace_occlusion(accel, rays, options.test, width);
+                    std::vector<std::uint8_t> occluded(rays.size());
+                    occlude_stream_parallel(accel, rays, occluded, {width, PacketGrouping::in_order}, options.test);
                     tally.trace_seconds = seconds_since(start);
                     judge_any(stress_case, reference, occluded, tally);
                 }

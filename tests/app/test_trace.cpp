@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include "render/ray_stream.h"
 #include "render/trace.h"
 #include "scenes/builtin.h"
 
@@ -52,11 +53,16 @@ TEST_CASE("packet occlusion equals scalar occlusion and skips rays with nothing 
             if ((x + y) % 7 == 0) ray.tmax = 1.0f;  // too short to reach the teapot
             rays.push_back(ray);
         }
-    const std::vector<std::uint8_t> scalar = trace_occlusion(accel, rays);
+    auto occlusion = [&](SimdWidth width) {
+        std::vector<std::uint8_t> occluded(rays.size(), 7);
+        occlude_stream_parallel(accel, rays, occluded, {width, PacketGrouping::in_order});
+        return occluded;
+    };
+    const std::vector<std::uint8_t> scalar = occlusion(SimdWidth::scalar);
     for (SimdWidth width : {SimdWidth::w4, SimdWidth::w8, SimdWidth::w16}) {
         if (!is_runnable(width)) continue;
         CAPTURE(to_string(width));
-        CHECK(trace_occlusion(accel, rays, TriangleTest::watertight, width) == scalar);
+        CHECK(occlusion(width) == scalar);
     }
     for (std::size_t i = 0; i < rays.size(); ++i)
         if (!(rays[i].tmax > rays[i].tmin)) CHECK(scalar[i] == 0);
