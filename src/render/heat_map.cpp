@@ -14,12 +14,6 @@
 namespace trident {
 namespace {
 
-template <class Structure, class Arch>
-concept CountsPackets = requires(const Structure& s, const RayPacket<Arch>& rays, HitPacket<Arch>& hits,
-                                 TraversalCounters& counters) {
-    s.template intersect<TriangleTest::watertight>(rays, hits, counters);
-};
-
 /// Primary rays of one tile as packets, each packet's counters given to all of its pixels.
 template <TriangleTest Test, class Arch, class Structure>
 void count_tile_packets(const Structure& structure, const Camera& camera, const ImageTile& tile,
@@ -112,7 +106,7 @@ std::vector<TraversalCounters> count_primary_rays(const AnyAccel& accel, const C
                 };
                 if constexpr (W == SimdWidth::scalar)
                     refuse();
-                else if constexpr (CountsPackets<Structure, ArchOf<W>>)
+                else if constexpr (PacketTraversable<Structure, ArchOf<W>>)
                     for_each_image_tile(camera, [&](const ImageTile& tile) {
                         count_tile_packets<Test, ArchOf<W>>(structure, camera, tile, counts);
                     });

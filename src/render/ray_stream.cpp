@@ -15,13 +15,6 @@
 namespace trident {
 namespace {
 
-template <class Structure, class Arch>
-concept HasPackets = requires(const Structure& s, const RayPacket<Arch>& rays, HitPacket<Arch>& hits,
-                              NoCounters& counters) {
-    s.template intersect<TriangleTest::watertight>(rays, hits, counters);
-    s.template occluded<TriangleTest::watertight>(rays, counters);
-};
-
 bool has_work(const Ray& ray) { return ray.tmax > ray.tmin; }
 
 int octant_of(const Vec3f& d) {
@@ -104,7 +97,7 @@ void trace_stream(const AnyAccel& accel, std::span<const Ray> rays, std::span<Re
             dispatch_width(traversal.width, [&]<SimdWidth W>() {
                 if constexpr (W == SimdWidth::scalar)
                     trace_single<AnyHit, Test>(structure, rays, out);
-                else if constexpr (HasPackets<Structure, ArchOf<W>>)
+                else if constexpr (PacketTraversable<Structure, ArchOf<W>>)
                     trace_packets<AnyHit, Test, ArchOf<W>>(structure, rays, out, traversal.grouping);
                 else
                     throw std::runtime_error(fmt::format("--simd {} with --accel {}: packet traversal not built yet",

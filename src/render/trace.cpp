@@ -33,13 +33,6 @@ void for_each_pixel_tiled(const Camera& camera, PerPixel&& per_pixel) {
     });
 }
 
-template <class Structure, class Arch>
-concept PacketTraversable = requires(const Structure& s, const RayPacket<Arch>& rays, HitPacket<Arch>& hits,
-                                     NoCounters& counters) {
-    s.template intersect<TriangleTest::watertight>(rays, hits, counters);
-    s.template occluded<TriangleTest::watertight>(rays, counters);
-};
-
 /// Scalar always; a packet width when the structure has a packet traversal.
 template <SimdWidth W, class Structure>
 constexpr bool can_trace_at() {
