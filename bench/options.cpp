@@ -81,10 +81,8 @@ std::vector<Traversal> resolve_traversals(const std::vector<std::string>& names)
 std::vector<TriangleTest> resolve_triangle_tests(const std::vector<std::string>& names) {
     std::vector<TriangleTest> tests;
     for (const std::string& name : names) {
-        if (name == to_string(TriangleTest::watertight))
-            push_unique(tests, TriangleTest::watertight);
-        else if (name == to_string(TriangleTest::moller_trumbore))
-            push_unique(tests, TriangleTest::moller_trumbore);
+        if (const auto test = parse_triangle_test(name))
+            push_unique(tests, *test);
         else
             refuse(fmt::format("--triangle-test {}: expected watertight or moller_trumbore", name));
     }
@@ -95,10 +93,8 @@ std::vector<TriangleTest> resolve_triangle_tests(const std::vector<std::string>&
 std::vector<SlabTest> resolve_slab_tests(const std::vector<std::string>& names) {
     std::vector<SlabTest> slabs;
     for (const std::string& name : names) {
-        if (name == to_string(SlabTest::robust))
-            push_unique(slabs, SlabTest::robust);
-        else if (name == to_string(SlabTest::fast))
-            push_unique(slabs, SlabTest::fast);
+        if (const auto slabs_choice = parse_slab_test(name))
+            push_unique(slabs, *slabs_choice);
         else
             refuse(fmt::format("--slabs {}: expected robust or fast", name));
     }

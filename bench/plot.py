@@ -140,27 +140,42 @@ def thread_scaling(report, out_dir, written):
     save(fig, out_dir, "thread_scaling.png", written)
 
 
+VARIANT_MARKERS = {("watertight", "robust"): "o", ("watertight", "fast"): "s",
+                   ("moller_trumbore", "robust"): "^", ("moller_trumbore", "fast"): "v"}
+
+
 def speed_vs_error(report, out_dir, written):
-    rows = [r for r in report["rows"] if r["hit_miss_share"] is not None]
+    # Colour says the structure, the marker the variant (triangle test, slab test), so one run with
+    # --triangle-test and --slabs lists shows what being exact costs.
+    rows = [r for r in report["rows"] if r["hit_miss_share"] is not None and r["structure"] != "embree"]
     if not rows:
         return
     fig, ax = plt.subplots(figsize=(8, 5))
-    for s in ordered([r["structure"] for r in rows], STRUCTURE_ORDER):
-        mine = [r for r in rows if r["structure"] == s]
-        ax.scatter([100.0 * (r["hit_miss_share"] + r["triangle_share"]) for r in mine],
-                   [r["mrays_per_s"] for r in mine], label=LABELS.get(s, s))
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    structures = ordered([r["structure"] for r in rows], STRUCTURE_ORDER)
+    variants = sorted({(r["triangle_test"], r["slabs"]) for r in rows}, key=lambda v: list(VARIANT_MARKERS).index(v)
+                      if v in VARIANT_MARKERS else len(VARIANT_MARKERS))
+    for i, s in enumerate(structures):
+        for v in variants:
+            mine = [r for r in rows if r["structure"] == s and (r["triangle_test"], r["slabs"]) == v]
+            if mine:
+                ax.scatter([100.0 * (r["hit_miss_share"] + r["triangle_share"]) for r in mine],
+                           [r["mrays_per_s"] for r in mine], color=colours[i % len(colours)],
+                           marker=VARIANT_MARKERS.get(v, "x"), alpha=0.8,
+                           label="{} {}/{}".format(LABELS.get(s, s), v[0], v[1]))
     ax.set_xscale("symlog", linthresh=1e-3)
     ax.set_xlim(left=0)
     log_scale_if_wide(ax, [r["mrays_per_s"] for r in rows])
     ax.set_xlabel("rays disagreeing with the reference (hit/miss or triangle), %")
     ax.set_ylabel("Mrays/s")
-    ax.set_title("Speed against error\nreference: {}".format(report["reference"]), fontsize=9)
-    ax.legend()
+    ax.set_title("Speed against error, every scene and traversal\nreference: {}".format(report["reference"]),
+                 fontsize=9)
+    ax.legend(fontsize=7, ncol=2 if len(variants) > 1 else 1)
     ax.grid(alpha=0.3)
     save(fig, out_dir, "speed_vs_error.png", written)
 
 
-def sweep_chart(report, out_dir, written):
+def sweep_chart(report, out_dir, written, name):
     sweep = report.get("sweep")
     if not sweep:
         return
@@ -181,7 +196,7 @@ def sweep_chart(report, out_dir, written):
         ax.legend(fontsize=8)
     fig.suptitle("Sweep {} ({} threads, {}x{})".format(sweep["name"], threads, report["width"], report["height"]),
                  fontsize=10)
-    save(fig, out_dir, "sweep_{}.png".format(sweep["name"]), written)
+    save(fig, out_dir, name, written)
 
 
 def main():
@@ -206,7 +221,12 @@ def main():
     scalar_vs_simd(report, args.out, written)
     thread_scaling(report, args.out, written)
     speed_vs_error(report, args.out, written)
-    sweep_chart(report, args.out, written)
+    # A sweep's chart is sweep_NAME.png, or its JSON's name when that starts with sweep_ too, so two
+    # runs of one sweep on different scenes (sweep_octree-depth_small, _large) keep both charts.
+    stem = os.path.splitext(os.path.basename(args.json))[0]
+    sweep = report.get("sweep") or {}
+    sweep_chart(report, args.out, written,
+                stem + ".png" if stem.startswith("sweep_") else "sweep_{}.png".format(sweep.get("name")))
     for path in written:
         print(path)
 

@@ -60,14 +60,12 @@ AccelKind accel_kind_or_throw(const std::string& name) {
 }
 
 TriangleTest triangle_test_or_throw(const std::string& name) {
-    if (name == "watertight") return TriangleTest::watertight;
-    if (name == "moller_trumbore" || name == "mt") return TriangleTest::moller_trumbore;
+    if (const auto test = parse_triangle_test(name)) return *test;
     throw std::invalid_argument(fmt::format("--triangle-test {}: expected watertight or moller_trumbore", name));
 }
 
 SlabTest slab_test_or_throw(const std::string& name) {
-    if (name == to_string(SlabTest::robust)) return SlabTest::robust;
-    if (name == to_string(SlabTest::fast)) return SlabTest::fast;
+    if (const auto slabs = parse_slab_test(name)) return *slabs;
     throw std::invalid_argument(fmt::format("--slabs {}: expected robust or fast", name));
 }
 

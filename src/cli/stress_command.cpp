@@ -29,6 +29,7 @@ struct StressCommandOptions {
     std::vector<std::string> accels{"brute", "bvh", "kdtree", "octree"};
     std::vector<std::string> widths{"all"};
     std::string triangle_test = "watertight";
+    std::string slabs = "robust";
     std::size_t brute_rays = 20'000;
     int threads = 0;
     std::optional<std::filesystem::path> json;
@@ -58,9 +59,12 @@ StressRunOptions run_options(const StressCommandOptions& o) {
         if (!is_runnable(*width)) throw std::invalid_argument(fmt::format("--simd {}: this CPU or build cannot run it", name));
         run.widths.push_back(*width);
     }
-    if (o.triangle_test == "watertight") run.test = TriangleTest::watertight;
-    else if (o.triangle_test == "moller_trumbore" || o.triangle_test == "mt") run.test = TriangleTest::moller_trumbore;
-    else throw std::invalid_argument(fmt::format("--triangle-test {}: expected watertight or moller_trumbore", o.triangle_test));
+    const auto test = parse_triangle_test(o.triangle_test);
+    if (!test) throw std::invalid_argument(fmt::format("--triangle-test {}: expected watertight or moller_trumbore", o.triangle_test));
+    run.test = *test;
+    const auto slabs = parse_slab_test(o.slabs);
+    if (!slabs) throw std::invalid_argument(fmt::format("--slabs {}: expected robust or fast", o.slabs));
+    run.slabs = *slabs;
     if (o.rays == 0 || o.rays > kMaxRays)
         throw std::invalid_argument(fmt::format("--rays {}: must lie in 1..{}", o.rays, kMaxRays));
     run.brute_rays = o.brute_rays;
@@ -108,6 +112,7 @@ StressCommand::StressCommand(CLI::App& app) : options_(std::make_unique<StressCo
     command_->add_option("--accel", o.accels, "structures, comma-separated (default brute,bvh,kdtree,octree)")->delimiter(',');
     command_->add_option("--simd", o.widths, "widths, comma-separated: all (default) or scalar,4,8,16")->delimiter(',');
     command_->add_option("--triangle-test", o.triangle_test, "watertight (default) or moller_trumbore");
+    command_->add_option("--slabs", o.slabs, "box tests: robust (default) or fast, to measure what the fast one loses");
     command_->add_option("--brute-rays", o.brute_rays, "rays per case for the brute-force sanity row (default 20000)");
     command_->add_option("--threads", o.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096));
     command_->add_option("--json", o.json, "also write every row to this JSON file");
@@ -161,6 +166,7 @@ int StressCommand::run() const {
         std::ofstream out(*o.json);
         if (!out) throw std::runtime_error(fmt::format("{}: cannot write", o.json->string()));
         out << nlohmann::json{{"seed", o.seed}, {"rays_per_case", o.rays}, {"triangle_test", o.triangle_test},
+                              {"slabs", o.slabs},
                               {"rows", rows}, {"leaks", leaks}, {"disagreements", disagreements},
                               {"seconds", seconds}}
                    .dump(1)

@@ -13,6 +13,8 @@
 #include <bit>
 #include <concepts>
 #include <cstdint>
+#include <optional>
+#include <string_view>
 
 #include "core/lanes.h"
 #include "core/mesh.h"
@@ -24,6 +26,13 @@ enum class TriangleTest { watertight, moller_trumbore };
 
 inline const char* to_string(TriangleTest test) {
     return test == TriangleTest::watertight ? "watertight" : "moller_trumbore";
+}
+
+/// Reads what to_string() writes, and "mt" for Möller–Trumbore.
+inline std::optional<TriangleTest> parse_triangle_test(std::string_view name) {
+    if (name == "watertight") return TriangleTest::watertight;
+    if (name == "moller_trumbore" || name == "mt") return TriangleTest::moller_trumbore;
+    return std::nullopt;
 }
 
 template <class T>

@@ -20,6 +20,8 @@
 // to measure what robustness costs (issue 8). It can reject a box the ray touches only within
 // rounding, and gives NaN (a miss) for an origin on a slab plane of an axis the ray runs parallel to.
 #include <limits>
+#include <optional>
+#include <string_view>
 
 #include "core/lanes.h"
 #include "core/ray.h"
@@ -31,6 +33,12 @@ namespace trident {
 enum class SlabTest { robust, fast };
 
 inline const char* to_string(SlabTest slabs) { return slabs == SlabTest::robust ? "robust" : "fast"; }
+
+inline std::optional<SlabTest> parse_slab_test(std::string_view name) {
+    if (name == "robust") return SlabTest::robust;
+    if (name == "fast") return SlabTest::fast;
+    return std::nullopt;
+}
 
 /// gamma(n) = n u / (1 - n u), the bound on the relative error of n roundings (u = 2^-24; Higham,
 /// "Accuracy and Stability of Numerical Algorithms", section 3.1, as used by Ize and pbrt).

@@ -33,18 +33,18 @@ struct PendingPacket {
 template <bool AnyHit>
 using Result = std::conditional_t<AnyHit, std::uint8_t, Hit>;
 
-template <bool AnyHit, TriangleTest Test, class Structure>
+template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Structure>
 void trace_single(const Structure& structure, std::span<const Ray> rays, std::span<Result<AnyHit>> out) {
     for (std::size_t i = 0; i < rays.size(); ++i) {
         NoCounters counters;
         if constexpr (AnyHit)
-            out[i] = has_work(rays[i]) && structure.template occluded<Test>(rays[i], counters);
+            out[i] = has_work(rays[i]) && structure.template occluded<Test, Slabs>(rays[i], counters);
         else
-            out[i] = has_work(rays[i]) ? structure.template intersect<Test>(rays[i], counters) : Hit{};
+            out[i] = has_work(rays[i]) ? structure.template intersect<Test, Slabs>(rays[i], counters) : Hit{};
     }
 }
 
-template <bool AnyHit, TriangleTest Test, class Arch, class Structure>
+template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Structure>
 void trace_packets(const Structure& structure, std::span<const Ray> rays, std::span<Result<AnyHit>> out,
                    PacketGrouping grouping) {
     constexpr std::size_t kLanes = RayPacket<Arch>::width;
@@ -54,11 +54,11 @@ void trace_packets(const Structure& structure, std::span<const Ray> rays, std::s
         const RayPacket<Arch> packet(std::span<const Ray>(pending.rays.data(), pending.lanes));
         NoCounters counters;
         if constexpr (AnyHit) {
-            const std::uint32_t bits = simd::mask_bits(structure.template occluded<Test>(packet, counters));
+            const std::uint32_t bits = simd::mask_bits(structure.template occluded<Test, Slabs>(packet, counters));
             for (std::size_t k = 0; k < pending.lanes; ++k) out[pending.index[k]] = (bits >> k) & 1u;
         } else {
             HitPacket<Arch> hits(packet);
-            structure.template intersect<Test>(packet, hits, counters);
+            structure.template intersect<Test, Slabs>(packet, hits, counters);
             std::array<Hit, kLanes> lane_hits;
             hits.store(std::span<Hit>(lane_hits.data(), pending.lanes));
             for (std::size_t k = 0; k < pending.lanes; ++k) out[pending.index[k]] = lane_hits[k];
@@ -90,15 +90,16 @@ template <bool AnyHit>
 void trace_stream(const AnyAccel& accel, std::span<const Ray> rays, std::span<Result<AnyHit>> out,
                   StreamTraversal traversal, TriangleTest test) {
     if (out.size() != rays.size()) throw std::invalid_argument("trace stream: one result per ray is needed");
-    with_triangle_test(test, [&](auto test_tag) {
+    with_traversal_variant(test, traversal.slabs, [&](auto test_tag, auto slabs_tag) {
         constexpr TriangleTest Test = decltype(test_tag)::value;
+        constexpr SlabTest Slabs = decltype(slabs_tag)::value;
         accel.visit([&](const auto& structure) {
             using Structure = std::decay_t<decltype(structure)>;
             dispatch_width(traversal.width, [&]<SimdWidth W>() {
                 if constexpr (W == SimdWidth::scalar)
-                    trace_single<AnyHit, Test>(structure, rays, out);
+                    trace_single<AnyHit, Test, Slabs>(structure, rays, out);
                 else if constexpr (PacketTraversable<Structure, ArchOf<W>>)
-                    trace_packets<AnyHit, Test, ArchOf<W>>(structure, rays, out, traversal.grouping);
+                    trace_packets<AnyHit, Test, Slabs, ArchOf<W>>(structure, rays, out, traversal.grouping);
                 else
                     throw std::runtime_error(fmt::format("--simd {} with --accel {}: packet traversal not built yet",
                                                          to_string(W), to_string(accel.kind())));

@@ -9,16 +9,19 @@
 
 #include "accel/any_accel.h"
 #include "core/intersect_triangle.h"
+#include "core/slab_test.h"
 #include "simd/width.h"
 
 namespace trident {
 
 enum class PacketGrouping { in_order, by_octant };
 
-/// How a stream is traced: single rays (width scalar) or packets of `width` lanes grouped so.
+/// How a stream is traced: single rays (width scalar) or packets of `width` lanes grouped so, with
+/// the robust or the fast slab test.
 struct StreamTraversal {
     SimdWidth width = SimdWidth::scalar;
     PacketGrouping grouping = PacketGrouping::in_order;
+    SlabTest slabs = SlabTest::robust;
 };
 
 const char* to_string(PacketGrouping grouping);

@@ -135,12 +135,12 @@ void run_stress_case(const StressCase& stress_case, const StressRunOptions& opti
                 const auto start = std::chrono::steady_clock::now();
                 if (query == StressQuery::closest_hit) {
                     std::vector<Hit> hits(rays.size());
-                    intersect_stream_parallel(accel, rays, hits, {width, PacketGrouping::in_order}, options.test);
+                    intersect_stream_parallel(accel, rays, hits, {width, PacketGrouping::in_order, options.slabs}, options.test);
                     tally.trace_seconds = seconds_since(start);
                     judge_closest(stress_case, reference, hits, tally);
                 } else {
                     std::vector<std::uint8_t> occluded(rays.size());
-                    occlude_stream_parallel(accel, rays, occluded, {width, PacketGrouping::in_order}, options.test);
+                    occlude_stream_parallel(accel, rays, occluded, {width, PacketGrouping::in_order, options.slabs}, options.test);
                     tally.trace_seconds = seconds_since(start);
                     judge_any(stress_case, reference, occluded, tally);
                 }

@@ -12,6 +12,7 @@
 
 #include "accel/any_accel.h"
 #include "core/intersect_triangle.h"
+#include "core/slab_test.h"
 #include "simd/width.h"
 #include "stress/stress_case.h"
 
@@ -24,6 +25,7 @@ struct StressRunOptions {
     std::vector<AccelKind> accels = built_accel_kinds();
     std::vector<SimdWidth> widths;  // empty: every width this CPU runs
     TriangleTest test = TriangleTest::watertight;
+    SlabTest slabs = SlabTest::robust;
     /// The brute force is a sanity row: it traces only the case's first brute_rays rays.
     std::size_t brute_rays = 20000;
     /// Ray-triangle tests in double per case: rays are checked against the reference at a stride

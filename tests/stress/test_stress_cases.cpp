@@ -74,6 +74,24 @@ TEST_CASE("the suite catches a test that is not watertight: Möller–Trumbore l
     });
 }
 
+TEST_CASE("the suite catches a slab test that is not robust: the fast one leaks on axis-parallel rays") {
+    // Rays along the cube's tessellation planes with +0/-0 components: the fast slab test turns an
+    // origin on a box face into 0 * inf = NaN and drops the box. Every width must show it.
+    const StressCase axis_parallel = make_stress_case("axis_parallel", 4000, 7);
+    for (SlabTest slabs : {SlabTest::robust, SlabTest::fast}) {
+        StressRunOptions options;
+        options.accels = {AccelKind::bvh};
+        options.slabs = slabs;
+        run_stress_case(axis_parallel, options, [&](const StressTally& t) {
+            INFO(to_string(slabs), " ", to_string(t.width), " ", to_string(t.query));
+            if (slabs == SlabTest::robust)
+                CHECK(t.failures() == 0);
+            else
+                CHECK(t.leaks > 0);
+        });
+    }
+}
+
 TEST_CASE("unknown case names are refused") { CHECK_THROWS_AS(make_stress_case("no_such_case", 10, 1), std::invalid_argument); }
 
 }  // namespace
