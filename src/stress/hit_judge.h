@@ -11,7 +11,8 @@
 //     t_tolerance = (K eps + 2 margin_tolerance) L / |d|,
 // with eps = 2^-24 and K = 64 (a few roundings per operation, with room). A hit within these of
 // the reference is agreement; a disagreement is counted only beyond them. Zero-area triangles
-// have no margin (-inf): hitting one is always wrong.
+// have no margin (-inf): hitting one is always wrong. A ray lying in a triangle's plane (det = 0)
+// sees it edge-on: it may hit it, never must, anywhere along the segment they share.
 #include <limits>
 #include <span>
 
@@ -21,8 +22,9 @@
 namespace trident {
 
 struct TriangleFit {
-    double t;                 // where the ray meets the triangle's plane (inf when parallel or degenerate)
-    double margin;            // min barycentric coordinate there (-inf when parallel or degenerate)
+    double t;                 // where the ray meets the triangle's plane (inf when it cannot: degenerate,
+                              // or parallel off the plane; the first shared point when in the plane)
+    double margin;            // min barycentric coordinate there (-inf when it cannot meet it; 0 in the plane)
     double margin_tolerance;  // the float test's error bound on margin
     double t_tolerance;       // ... and on t
 

@@ -42,6 +42,25 @@ TEST_CASE("fit_triangle: inside, outside, on an edge, degenerate") {
     CHECK_FALSE(fit_triangle(behind, tri).may_hit(behind));
 }
 
+TEST_CASE("fit_triangle: a ray in the triangle's plane may hit it along the shared segment, never must") {
+    const Triangle tri{{-1, -1, 0}, {1, -1, 0}, {0, 1, 0}};
+    const Ray across{{-5, 0, 0}, {1, 0, 0}};  // in the plane z = 0, crossing x = -0.5 .. 0.5
+    const TriangleFit in_plane = fit_triangle(across, tri);
+    CHECK_FALSE(in_plane.degenerate());
+    CHECK(in_plane.may_hit(across));
+    CHECK_FALSE(in_plane.must_hit(across));
+    CHECK(in_plane.t == doctest::Approx(4.5).epsilon(1e-3));  // widened by the rounding slack
+    CHECK(in_plane.t + in_plane.t_tolerance == doctest::Approx(5.5).epsilon(1e-4));  // reaches the exit
+    const Ray through_vertex{{0, 3, 0}, {0, -1, 0}};  // along the axis of symmetry, entering at c
+    CHECK(fit_triangle(through_vertex, tri).t == doctest::Approx(2.0).epsilon(1e-3));
+    const Ray beside{{-5, 2, 0}, {1, 0, 0}};  // in the plane, above the triangle
+    CHECK_FALSE(fit_triangle(beside, tri).may_hit(beside));
+    const Ray above{{-5, 0, 0.5}, {1, 0, 0}};  // parallel, off the plane
+    CHECK_FALSE(fit_triangle(above, tri).may_hit(above));
+    const Ray away{{-5, 0, 0}, {-1, 0, 0}};  // in the plane, pointing away
+    CHECK_FALSE(fit_triangle(away, tri).may_hit(away));
+}
+
 TEST_CASE("a must-hit ray that misses is a leak, in both queries") {
     StressCase c = one_triangle_case();
     c.add_ray({{5, 5, 5}, {0, 0, -1}}, true);  // misses the triangle
