@@ -1,7 +1,7 @@
 #pragma once
 // One ray against one BVH node's box, the x, y and z slabs side by side in three lanes of a
-// 4-wide vector: the robust slab formula of core/slab_test.h (detail::clip_to_slab, written over
-// a value type) applied to the three axes at once, then the lanes reduced. About a third of the
+// 4-wide vector: the robust slab formula of core/slab_test.h (detail::clip_to_ordered_slab,
+// written over a value type) applied to the three axes at once, then the lanes reduced. About a third of the
 // instructions of three scalar slabs, in the loop that dominates traversal. Slabs picks the robust
 // or the fast formula (core/slab_test.h).
 #include <cstdint>
@@ -25,13 +25,21 @@ public:
         // The fourth lane computes finite nonsense (origin 0, reciprocal 0) and is never reduced.
         origin_ = Float4{slab.origin.x, slab.origin.y, slab.origin.z, 0.0f};
         inv_dir_ = Float4{slab.inv_dir.x, slab.inv_dir.y, slab.inv_dir.z, 0.0f};
+        negative_ = inv_dir_ < Float4(0.0f);
     }
 
     /// As intersect_slabs: whether [t_min, t_max] meets the node's box, its entry distance in t_entry.
     bool enters(const BvhNode& node, float t_min, float t_max, float& t_entry) const {
         Float4 entry(t_min), exit(t_max);
-        detail::clip_to_slab<Slabs>(load_xyz(&node.bounds.lo.x), load_xyz(&node.bounds.hi.x), origin_, inv_dir_, entry,
-                                    exit);
+        const Float4 lo = load_xyz(&node.bounds.lo.x), hi = load_xyz(&node.bounds.hi.x);
+        if constexpr (Slabs == SlabTest::robust) {
+            // The planes ordered by the ray's signs once per node (two selects on a mask fixed per
+            // ray) rather than the robust formula's compares and selects per plane.
+            detail::clip_to_ordered_slab(xsimd::select(negative_, hi, lo), xsimd::select(negative_, lo, hi), origin_,
+                                         inv_dir_, entry, exit);
+        } else {
+            detail::clip_to_slab<Slabs>(lo, hi, origin_, inv_dir_, entry, exit);
+        }
         t_entry = largest_of_xyz(entry);
         return t_entry <= smallest_of_xyz(exit);
     }
@@ -55,6 +63,7 @@ private:
     }
 
     Float4 origin_, inv_dir_;
+    xsimd::batch_bool<float, Arch> negative_;  // per axis: 1 / dir < 0 (dir -0 included)
 };
 
 }  // namespace trident::bvh

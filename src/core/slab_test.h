@@ -82,6 +82,22 @@ SlabInterval<T> slab_interval(T lo, T hi, T origin, T inv_dir) {
     }
 }
 
+/// The robust test with the slab's planes already ordered along the ray: near_plane is lo where
+/// the ray's direction is positive and hi where it is negative (from the sign of inv_dir, so -0
+/// counts as negative), far_plane the other. No comparison or select is needed for the zero
+/// offsets: an origin on a plane the ray runs along gives 0 * inf = NaN, and min and max return
+/// their second operand when either is NaN (core/lanes.h), so such a slab leaves entry or exit
+/// as they were: the ray lies inside that closed slab. Where nothing is NaN the result is the
+/// robust interval of slab_interval, so both forms accept the same boxes; this one saves the
+/// compare-and-select pair per plane in the single-ray BVH's box test.
+template <class T>
+void clip_to_ordered_slab(T near_plane, T far_plane, T origin, T inv_dir, T& entry, T& exit) {
+    constexpr float kFarScale = 1.0f + 2.0f * rounding_gamma(3);
+    using L = Lanes<T>;
+    entry = L::max((near_plane - origin) * inv_dir, entry);
+    exit = L::min((far_plane - origin) * inv_dir * T(kFarScale), exit);
+}
+
 /// Narrows [entry, exit] to the ray's interval inside one slab [lo, hi].
 template <SlabTest Slabs = SlabTest::robust, class T>
 void clip_to_slab(T lo, T hi, T origin, T inv_dir, T& entry, T& exit) {

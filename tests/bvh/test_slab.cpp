@@ -128,3 +128,32 @@ TEST_CASE("every ray that touches a box in exact arithmetic hits it, even throug
     CHECK(touching > 10000);  // the rays do graze the boxes
     CHECK(rejected == 0);
 }
+
+TEST_CASE("the BVH's plane-ordered box test accepts exactly the boxes the robust slab test accepts") {
+    // Origins and box planes on a coarse grid, so that origins often lie on a plane; directions
+    // with +0 and -0 components, axis-parallel and oblique. hits() checks the NodeBoxTest (planes
+    // ordered by the ray's signs, NaN ignored) against intersect_slabs (zero offsets replaced),
+    // decision and entry distance.
+    std::mt19937 rng(11);
+    std::uniform_int_distribution<int> grid(-2, 2), pick(0, 4);
+    const float components[5] = {0.0f, -0.0f, 1.0f, -1.0f, 0.375f};
+    int accepted = 0, rays = 0;
+    for (int i = 0; i < 20000; ++i) {
+        Aabb box;
+        for (int a = 0; a < 3; ++a) {
+            const int lo = grid(rng), extent = grid(rng) + 2;  // 0 .. 4, flat boxes included
+            box.lo[a] = float(lo);
+            box.hi[a] = float(lo + extent);
+        }
+        Ray ray{{float(grid(rng)), float(grid(rng)), float(grid(rng))},
+                {components[pick(rng)], components[pick(rng)], components[pick(rng)]}};
+        if (ray.dir.x == 0.0f && ray.dir.y == 0.0f && ray.dir.z == 0.0f) continue;
+        ray.tmin = i % 3 == 0 ? 0.5f : 0.0f;
+        ++rays;
+        float t_entry;
+        accepted += hits(ray, box, t_entry);
+    }
+    CHECK(rays > 15000);
+    CHECK(accepted > rays / 10);  // both outcomes are exercised
+    CHECK(accepted < rays);
+}
