@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Re-measures every table and chart of bench/RESULTS.md on this machine, in order (about 35
+# Re-measures every table and chart of bench/RESULTS.md on this machine, in order (about 50
 # minutes on 2 cores). Run from the repository root after `bash run.sh test` (or any Release
-# build in build/), with ../shared beside the repository and nothing else running.
+# build in build/), with ../shared beside the repository and nothing else running. The summary
+# tables of RESULTS.md are then printed from the JSON written here by bench/summarize.py.
 set -euo pipefail
 bench=build/trident-bench
 scenes=../shared/scenes/scenes.json
@@ -17,9 +18,10 @@ $bench --scenes $scenes --simd scalar,simd4,simd8,simd16 --threads 1,2 --embree 
 $bench --scenes $scenes --rays primary,shadow,diffuse --simd scalar,simd8,simd16 --threads 2 --embree 1,8,16 \
     --json $out/ray_kinds.json --markdown $out/ray_kinds.md --csv $out/ray_kinds.csv
 
-# Speed against error: both triangle tests and both slab tests, at half resolution.
+# Speed against error: both triangle tests and both slab tests, at half resolution; 9 repeats, as
+# the short Teapot runs are the noisiest.
 $bench --scenes $scenes --triangle-test watertight,moller_trumbore --slabs robust,fast --simd scalar,simd16 \
-    --threads 2 --embree 1 --width 960 --height 540 \
+    --threads 2 --embree 1 --width 960 --height 540 --repeats 9 \
     --json $out/variants.json --markdown $out/variants.md --csv $out/variants.csv
 
 # The stress suite with the defaults (12M closest-hit and 12M any-hit rays per structure and width),

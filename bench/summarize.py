@@ -5,6 +5,7 @@
     summarize.py variants RESULTS.json
     summarize.py sweep RESULTS.json [RESULTS.json ...]
     summarize.py stress STRESS.json [STRESS.json ...]
+    summarize.py ray-kinds RESULTS.json
 
 Every figure printed is read from the JSON given; the study's own Table 2 is read from
 BENCHMARK.md, so the side-by-side table quotes it rather than copying it. Only the standard library
@@ -270,6 +271,46 @@ def variants(report):
     return "\n".join(out)
 
 
+def ray_kinds(report):
+    rows = report["rows"]
+    t = max(report["threads"])
+    kinds = [k for k in ("primary", "shadow", "diffuse") if any(r.get("rays") == k for r in rows)]
+
+    def mrays(scene, structure, traversal, kind):
+        for r in rows:
+            if (r["scene"], r["structure"], r["traversal"], r["threads"], r.get("rays")) == \
+                    (scene, structure, traversal, t, kind):
+                return r["mrays_per_s"]
+        return None
+
+    traversals = [w for w in WIDTHS if any(r["traversal"] == w for r in rows)]
+    out = ["### Mrays/s by ray kind, {} threads, {}x{} ({})\n".format(
+        t, report["width"], report["height"], " / ".join(kinds))]
+    body = []
+    for scene in scenes_in_order(rows):
+        for s in STRUCTURES + ("embree",):
+            for w in traversals:
+                traversal = w
+                if s == "embree":
+                    # Embree's rows name their calls: rtcIntersectN for primary and diffuse, rtcOccludedN
+                    # for shadow; match them by width.
+                    lanes = "1" if w == "scalar" else w[4:]
+                    found = {k: next((r["mrays_per_s"] for r in rows if r["scene"] == scene and
+                                      r["structure"] == "embree" and r["threads"] == t and r.get("rays") == k and
+                                      re.search(r"(\d+)$", r["traversal"]).group(1) == lanes), None)
+                             for k in kinds}
+                    traversal = "width " + lanes
+                else:
+                    found = {k: mrays(scene, s, w, k) for k in kinds}
+                if all(v is None for v in found.values()):
+                    continue
+                cells = [scene, NAMES[s], traversal] + [fmt(found[k]) for k in kinds]
+                cells.append(fmt(ratio(found.get("shadow"), found.get("primary"))))
+                body.append(cells)
+    out.append(table(["scene", "structure", "traversal"] + kinds + ["shadow / primary"], body))
+    return "\n".join(out)
+
+
 def sweep(reports):
     out = []
     for report in reports:
@@ -331,7 +372,7 @@ def load(path):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("kind", choices=("study", "variants", "sweep", "stress"))
+    parser.add_argument("kind", choices=("study", "variants", "sweep", "stress", "ray-kinds"))
     parser.add_argument("json", nargs="+")
     parser.add_argument("--study-table", default="../shared/BENCHMARK.md",
                         help="BENCHMARK.md, for the study's own Table 2 (skipped when absent)")
@@ -343,6 +384,8 @@ def main():
         print(variants(reports[0]))
     elif args.kind == "sweep":
         print(sweep(reports))
+    elif args.kind == "ray-kinds":
+        print(ray_kinds(reports[0]))
     else:
         print(stress(reports))
 

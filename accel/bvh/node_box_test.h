@@ -1,9 +1,9 @@
 #pragma once
 // One ray against one BVH node's box, the x, y and z slabs side by side in three lanes of a
 // 4-wide vector: the robust slab formula of core/slab_test.h (detail::clip_to_ordered_slab,
-// written over a value type) applied to the three axes at once, then the lanes reduced. About a third of the
-// instructions of three scalar slabs, in the loop that dominates traversal. Slabs picks the robust
-// or the fast formula (core/slab_test.h).
+// written over a value type) applied to the three axes at once, then the lanes reduced. About a
+// third of the instructions of three scalar slabs, in the loop that dominates traversal. Slabs
+// picks the robust or the fast formula (core/slab_test.h).
 #include <cstdint>
 #include <xsimd/xsimd.hpp>
 

@@ -60,7 +60,9 @@ StressRunOptions run_options(const StressCommandOptions& o) {
         run.widths.push_back(*width);
     }
     const auto test = parse_triangle_test(o.triangle_test);
-    if (!test) throw std::invalid_argument(fmt::format("--triangle-test {}: expected watertight or moller_trumbore", o.triangle_test));
+    if (!test)
+        throw std::invalid_argument(
+            fmt::format("--triangle-test {}: expected watertight or moller_trumbore", o.triangle_test));
     run.test = *test;
     const auto slabs = parse_slab_test(o.slabs);
     if (!slabs) throw std::invalid_argument(fmt::format("--slabs {}: expected robust or fast", o.slabs));

@@ -129,18 +129,19 @@ void run_stress_case(const StressCase& stress_case, const StressRunOptions& opti
             kind == AccelKind::brute ? std::min(options.brute_rays, stress_case.rays.size()) : stress_case.rays.size();
         const std::span<const Ray> rays(stress_case.rays.data(), ray_count);
         for (SimdWidth width : widths) {
+            const StreamTraversal traversal{width, PacketGrouping::in_order, options.slabs};
             for (StressQuery query : {StressQuery::closest_hit, StressQuery::any_hit}) {
                 StressTally tally{stress_case.name, kind, width, query};
                 tally.rays = ray_count;
                 const auto start = std::chrono::steady_clock::now();
                 if (query == StressQuery::closest_hit) {
                     std::vector<Hit> hits(rays.size());
-                    intersect_stream_parallel(accel, rays, hits, {width, PacketGrouping::in_order, options.slabs}, options.test);
+                    intersect_stream_parallel(accel, rays, hits, traversal, options.test);
                     tally.trace_seconds = seconds_since(start);
                     judge_closest(stress_case, reference, hits, tally);
                 } else {
                     std::vector<std::uint8_t> occluded(rays.size());
-                    occlude_stream_parallel(accel, rays, occluded, {width, PacketGrouping::in_order, options.slabs}, options.test);
+                    occlude_stream_parallel(accel, rays, occluded, traversal, options.test);
                     tally.trace_seconds = seconds_since(start);
                     judge_any(stress_case, reference, occluded, tally);
                 }
