@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include <stdexcept>
+#include <type_traits>
 #include <string>
 
 #include "bench/statistics.h"
@@ -196,6 +197,22 @@ void occluded_packets(RTCScene scene, std::span<const Ray> rays, std::span<std::
     });
 }
 
+/// Calls f(std::integral_constant<int, W>{}) for Embree's call widths 1, 4, 8 and 16.
+template <class F>
+void with_embree_width(int packet_width, F&& f) {
+    switch (packet_width) {
+        case 1:
+            return f(std::integral_constant<int, 1>{});
+        case 4:
+            return f(std::integral_constant<int, 4>{});
+        case 8:
+            return f(std::integral_constant<int, 8>{});
+        case 16:
+            return f(std::integral_constant<int, 16>{});
+    }
+    throw std::invalid_argument(fmt::format("Embree has no packet width {}", packet_width));
+}
+
 }  // namespace
 
 EmbreeDevice::EmbreeDevice(int threads) {
@@ -263,31 +280,21 @@ void EmbreeScene::build(const EmbreeDevice& device, const Mesh& mesh) {
 EmbreeScene::~EmbreeScene() { rtcReleaseScene(scene_); }
 
 void EmbreeScene::trace(const Camera& camera, int packet_width, std::span<Hit> hits) const {
-    switch (packet_width) {
-        case 1:
-            return trace_single(scene_, camera, hits);
-        case 4:
-            return trace_packets<4>(scene_, camera, hits);
-        case 8:
-            return trace_packets<8>(scene_, camera, hits);
-        case 16:
-            return trace_packets<16>(scene_, camera, hits);
-    }
-    throw std::invalid_argument(fmt::format("Embree has no packet width {}", packet_width));
+    with_embree_width(packet_width, [&](auto width) {
+        if constexpr (width == 1)
+            trace_single(scene_, camera, hits);
+        else
+            trace_packets<width>(scene_, camera, hits);
+    });
 }
 
 void EmbreeScene::occluded(std::span<const Ray> rays, int packet_width, std::span<std::uint8_t> occluded) const {
-    switch (packet_width) {
-        case 1:
-            return occluded_single(scene_, rays, occluded);
-        case 4:
-            return occluded_packets<4>(scene_, rays, occluded);
-        case 8:
-            return occluded_packets<8>(scene_, rays, occluded);
-        case 16:
-            return occluded_packets<16>(scene_, rays, occluded);
-    }
-    throw std::invalid_argument(fmt::format("Embree has no packet width {}", packet_width));
+    with_embree_width(packet_width, [&](auto width) {
+        if constexpr (width == 1)
+            occluded_single(scene_, rays, occluded);
+        else
+            occluded_packets<width>(scene_, rays, occluded);
+    });
 }
 
 void EmbreeScene::intersect(std::span<const Ray> rays, std::span<Hit> hits) const {

@@ -21,28 +21,22 @@ try:
 except ImportError:
     sys.exit("plot.py: matplotlib is missing (Debian: apt-get install python3-matplotlib)")
 
+# The row helpers the Markdown summaries use too (bench/summarize.py, standard library only).
+from summarize import EMBREE_CALL, scenes_in_order
+
 STRUCTURE_ORDER = ["bvh", "kdtree", "octree", "brute", "embree"]
 LABELS = {"bvh": "BVH", "kdtree": "KD-tree", "octree": "Octree", "brute": "brute force", "embree": "Embree"}
-EMBREE_FOR = {"scalar": "rtcIntersect1", "simd4": "rtcIntersect4", "simd8": "rtcIntersect8", "simd16": "rtcIntersect16"}
 
 
 def ordered(values, order):
     return sorted(set(values), key=lambda v: (order.index(v) if v in order else len(order), v))
 
 
-def scenes_of(rows):
-    seen = []
-    for row in rows:
-        if row["scene"] not in seen:
-            seen.append(row["scene"])
-    return seen
-
-
 def headline_rows(report):
     """Rows at the run's largest thread count, scalar traversal (Embree: rtcIntersect1)."""
     threads = max(report["threads"])
     rows = [r for r in report["rows"] if r["threads"] == threads and r["sweep_value"] is None]
-    return [r for r in rows if r["traversal"] in ("scalar", EMBREE_FOR["scalar"])], threads
+    return [r for r in rows if r["traversal"] in ("scalar", EMBREE_CALL["scalar"])], threads
 
 
 def subtitle(report, threads):
@@ -83,7 +77,7 @@ def per_structure_chart(report, out_dir, written, name, ylabel, title, value_of)
     rows, threads = headline_rows(report)
     if not rows:
         return
-    scenes = scenes_of(rows)
+    scenes = scenes_in_order(rows)
     series = [(LABELS.get(s, s), [r for r in rows if r["structure"] == s])
               for s in ordered([r["structure"] for r in rows], STRUCTURE_ORDER)]
     fig, ax = plt.subplots(figsize=(9, 5))
@@ -95,7 +89,7 @@ def per_structure_chart(report, out_dir, written, name, ylabel, title, value_of)
 
 def scalar_vs_simd(report, out_dir, written):
     ours = [r for r in report["rows"] if r["structure"] != "embree" and r["sweep_value"] is None]
-    traversals = ordered([r["traversal"] for r in ours], list(EMBREE_FOR))
+    traversals = ordered([r["traversal"] for r in ours], list(EMBREE_CALL))
     if len(traversals) < 2:
         return
     threads = max(report["threads"])
@@ -124,7 +118,7 @@ def thread_scaling(report, out_dir, written):
     if not rows:
         return
     fig, ax = plt.subplots(figsize=(8, 5))
-    for scene in scenes_of(rows):
+    for scene in scenes_in_order(rows):
         for s in ordered([r["structure"] for r in rows if r["scene"] == scene], STRUCTURE_ORDER):
             points = sorted((r["threads"], r["mrays_per_s"]) for r in rows if r["scene"] == scene and r["structure"] == s)
             ax.plot([p[0] for p in points], [p[1] for p in points], marker="o",
@@ -183,7 +177,7 @@ def sweep_chart(report, out_dir, written, name):
     threads = max(report["threads"])
     rows = [r for r in rows if r["threads"] == threads and r["traversal"] == "scalar"]
     fig, (build_ax, render_ax) = plt.subplots(1, 2, figsize=(11, 4.5))
-    for scene in scenes_of(rows):
+    for scene in scenes_in_order(rows):
         points = sorted((r["sweep_value"], r["build_ms"], r["render_ms"]) for r in rows if r["scene"] == scene)
         xs = [p[0] for p in points]
         build_ax.plot(xs, [p[1] for p in points], marker="o", label=scene)
