@@ -60,7 +60,7 @@ StreamTraversal incoherent_traversal(AccelKind accel, SimdWidth requested, std::
             return {requested == SimdWidth::w16 && is_runnable(SimdWidth::w8) ? SimdWidth::w8 : requested,
                     PacketGrouping::by_octant};
         case AccelKind::octree:
-            if (triangles >= kOctreePacketTriangles) return {};
+            if (triangles >= kOctreePacketTriangles && requested != SimdWidth::w16) return {};
             return {requested, PacketGrouping::by_octant};
         case AccelKind::kdtree:
         case AccelKind::brute:
