@@ -16,32 +16,44 @@
 namespace trident::bench {
 namespace {
 
-/// Pixels one packet call covers and the call itself, per width. Blocks are at most 4 pixels
+/// Pixels one packet call covers and the calls themselves, per width. Blocks are at most 4 pixels
 /// wide so neighbouring lanes stay close in the image (coherent rays, as the context states).
 template <int Width>
 struct Packet;
 template <>
 struct Packet<4> {
+    using Rays = RTCRay4;
     using RayHit = RTCRayHit4;
     static constexpr std::uint32_t block_w = 2, block_h = 2;
     static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
         rtcIntersect4(valid, s, c, r);
     }
+    static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Rays* r) {
+        rtcOccluded4(valid, s, c, r);
+    }
 };
 template <>
 struct Packet<8> {
+    using Rays = RTCRay8;
     using RayHit = RTCRayHit8;
     static constexpr std::uint32_t block_w = 4, block_h = 2;
     static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
         rtcIntersect8(valid, s, c, r);
     }
+    static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Rays* r) {
+        rtcOccluded8(valid, s, c, r);
+    }
 };
 template <>
 struct Packet<16> {
+    using Rays = RTCRay16;
     using RayHit = RTCRayHit16;
     static constexpr std::uint32_t block_w = 4, block_h = 4;
     static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
         rtcIntersect16(valid, s, c, r);
+    }
+    static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Rays* r) {
+        rtcOccluded16(valid, s, c, r);
     }
 };
 
@@ -50,6 +62,36 @@ constexpr std::uint32_t kTilePixels = 16;  // blocks are handed out in tiles of 
 Hit to_hit(unsigned geom_id, unsigned prim_id, float t, float u, float v) {
     if (geom_id == RTC_INVALID_GEOMETRY_ID) return Hit{};
     return Hit{TriangleId(prim_id), t, u, v};
+}
+
+/// Embree's single ray for ours (all masks on).
+RTCRay to_embree(const Ray& ray) {
+    RTCRay r{};
+    r.org_x = ray.origin.x, r.org_y = ray.origin.y, r.org_z = ray.origin.z;
+    r.dir_x = ray.dir.x, r.dir_y = ray.dir.y, r.dir_z = ray.dir.z;
+    r.tnear = ray.tmin;
+    r.tfar = ray.tmax;
+    r.mask = ~0u;
+    return r;
+}
+
+/// Lane `lane` of Embree's packet of rays (RTCRay4/8/16) set to ours.
+template <class Rays>
+void set_lane(Rays& r, int lane, const Ray& ray) {
+    r.org_x[lane] = ray.origin.x, r.org_y[lane] = ray.origin.y, r.org_z[lane] = ray.origin.z;
+    r.dir_x[lane] = ray.dir.x, r.dir_y[lane] = ray.dir.y, r.dir_z[lane] = ray.dir.z;
+    r.tnear[lane] = ray.tmin;
+    r.tfar[lane] = ray.tmax;
+    r.mask[lane] = ~0u;
+}
+
+/// rtcIntersect1 of one ray, as our Hit.
+Hit intersect_one(RTCScene scene, RTCIntersectContext& context, const Ray& ray) {
+    RTCRayHit rayhit{};
+    rayhit.ray = to_embree(ray);
+    rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene, &context, &rayhit);
+    return to_hit(rayhit.hit.geomID, rayhit.hit.primID, rayhit.ray.tfar, rayhit.hit.u, rayhit.hit.v);
 }
 
 RTCIntersectContext coherent_context() {
@@ -75,17 +117,7 @@ void for_each_block(const Camera& camera, std::uint32_t block_w, std::uint32_t b
 void trace_single(RTCScene scene, const Camera& camera, std::span<Hit> hits) {
     for_each_block(camera, 1, 1, [&](std::uint32_t x, std::uint32_t y) {
         RTCIntersectContext context = coherent_context();
-        const Ray ray = camera.primary_ray(x, y);
-        RTCRayHit rayhit{};
-        rayhit.ray.org_x = ray.origin.x, rayhit.ray.org_y = ray.origin.y, rayhit.ray.org_z = ray.origin.z;
-        rayhit.ray.dir_x = ray.dir.x, rayhit.ray.dir_y = ray.dir.y, rayhit.ray.dir_z = ray.dir.z;
-        rayhit.ray.tnear = ray.tmin;
-        rayhit.ray.tfar = ray.tmax;
-        rayhit.ray.mask = ~0u;
-        rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(scene, &context, &rayhit);
-        hits[std::size_t(y) * camera.width() + x] =
-            to_hit(rayhit.hit.geomID, rayhit.hit.primID, rayhit.ray.tfar, rayhit.hit.u, rayhit.hit.v);
+        hits[std::size_t(y) * camera.width() + x] = intersect_one(scene, context, camera.primary_ray(x, y));
     });
 }
 
@@ -102,13 +134,7 @@ void trace_packets(RTCScene scene, const Camera& camera, std::span<Hit> hits) {
             valid[lane] = x < camera.width() && y < camera.height() ? -1 : 0;
             rayhit.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
             if (!valid[lane]) continue;
-            const Ray ray = camera.primary_ray(x, y);
-            rayhit.ray.org_x[lane] = ray.origin.x, rayhit.ray.org_y[lane] = ray.origin.y,
-            rayhit.ray.org_z[lane] = ray.origin.z;
-            rayhit.ray.dir_x[lane] = ray.dir.x, rayhit.ray.dir_y[lane] = ray.dir.y, rayhit.ray.dir_z[lane] = ray.dir.z;
-            rayhit.ray.tnear[lane] = ray.tmin;
-            rayhit.ray.tfar[lane] = ray.tmax;
-            rayhit.ray.mask[lane] = ~0u;
+            set_lane(rayhit.ray, lane, camera.primary_ray(x, y));
         }
         P::intersect(valid, scene, &context, &rayhit);
         for (int lane = 0; lane < Width; ++lane) {
@@ -124,24 +150,6 @@ void trace_packets(RTCScene scene, const Camera& camera, std::span<Hit> hits) {
 
 // ---- Secondary rays (issue 9): a list of rays, any-hit or closest hit -------------------------
 
-template <int Width>
-struct OccludedCall;
-template <>
-struct OccludedCall<4> {
-    using Rays = RTCRay4;
-    static void call(const int* v, RTCScene s, RTCIntersectContext* c, Rays* r) { rtcOccluded4(v, s, c, r); }
-};
-template <>
-struct OccludedCall<8> {
-    using Rays = RTCRay8;
-    static void call(const int* v, RTCScene s, RTCIntersectContext* c, Rays* r) { rtcOccluded8(v, s, c, r); }
-};
-template <>
-struct OccludedCall<16> {
-    using Rays = RTCRay16;
-    static void call(const int* v, RTCScene s, RTCIntersectContext* c, Rays* r) { rtcOccluded16(v, s, c, r); }
-};
-
 constexpr std::size_t kStreamChunk = 1024;  // rays per parallel task, as our ray streams
 
 bool has_work(const Ray& ray) { return ray.tmax > ray.tmin; }
@@ -156,12 +164,7 @@ void occluded_single(RTCScene scene, std::span<const Ray> rays, std::span<std::u
                 out[i] = 0;
                 continue;
             }
-            RTCRay r{};
-            r.org_x = ray.origin.x, r.org_y = ray.origin.y, r.org_z = ray.origin.z;
-            r.dir_x = ray.dir.x, r.dir_y = ray.dir.y, r.dir_z = ray.dir.z;
-            r.tnear = ray.tmin;
-            r.tfar = ray.tmax;
-            r.mask = ~0u;
+            RTCRay r = to_embree(ray);
             rtcOccluded1(scene, &context, &r);
             out[i] = r.tfar < 0.0f;
         }
@@ -171,24 +174,19 @@ void occluded_single(RTCScene scene, std::span<const Ray> rays, std::span<std::u
 /// rtcOccludedN over consecutive rays (the list is in primary-packet order), untraced rays off.
 template <int Width>
 void occluded_packets(RTCScene scene, std::span<const Ray> rays, std::span<std::uint8_t> out) {
-    using Call = OccludedCall<Width>;
+    using P = Packet<Width>;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), kStreamChunk), [&](const auto& range) {
         RTCIntersectContext context = coherent_context();
         for (std::size_t first = range.begin(); first < range.end(); first += Width) {
             alignas(64) int valid[Width];
-            alignas(64) typename Call::Rays r{};
+            alignas(64) typename P::Rays r{};
             for (int lane = 0; lane < Width; ++lane) {
                 const std::size_t i = first + std::size_t(lane);
                 valid[lane] = i < range.end() && has_work(rays[i]) ? -1 : 0;
                 if (!valid[lane]) continue;
-                const Ray& ray = rays[i];
-                r.org_x[lane] = ray.origin.x, r.org_y[lane] = ray.origin.y, r.org_z[lane] = ray.origin.z;
-                r.dir_x[lane] = ray.dir.x, r.dir_y[lane] = ray.dir.y, r.dir_z[lane] = ray.dir.z;
-                r.tnear[lane] = ray.tmin;
-                r.tfar[lane] = ray.tmax;
-                r.mask[lane] = ~0u;
+                set_lane(r, lane, rays[i]);
             }
-            Call::call(valid, scene, &context, &r);
+            P::occluded(valid, scene, &context, &r);
             for (int lane = 0; lane < Width; ++lane) {
                 const std::size_t i = first + std::size_t(lane);
                 if (i < range.end()) out[i] = valid[lane] && r.tfar[lane] < 0.0f;
@@ -303,20 +301,7 @@ void EmbreeScene::intersect(std::span<const Ray> rays, std::span<Hit> hits) cons
         rtcInitIntersectContext(&context);
         context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
-            const Ray& ray = rays[i];
-            if (!has_work(ray)) {
-                hits[i] = Hit{};
-                continue;
-            }
-            RTCRayHit rayhit{};
-            rayhit.ray.org_x = ray.origin.x, rayhit.ray.org_y = ray.origin.y, rayhit.ray.org_z = ray.origin.z;
-            rayhit.ray.dir_x = ray.dir.x, rayhit.ray.dir_y = ray.dir.y, rayhit.ray.dir_z = ray.dir.z;
-            rayhit.ray.tnear = ray.tmin;
-            rayhit.ray.tfar = ray.tmax;
-            rayhit.ray.mask = ~0u;
-            rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-            rtcIntersect1(scene_, &context, &rayhit);
-            hits[i] = to_hit(rayhit.hit.geomID, rayhit.hit.primID, rayhit.ray.tfar, rayhit.hit.u, rayhit.hit.v);
+            hits[i] = has_work(rays[i]) ? intersect_one(scene_, context, rays[i]) : Hit{};
         }
     });
 }
