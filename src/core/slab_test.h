@@ -60,6 +60,9 @@ using SlabRay = SlabRayT<float>;
 
 namespace detail {
 
+/// Ize's widening of every far distance: three roundings in (plane - origin) * inv_dir.
+inline constexpr float kFarScale = 1.0f + 2.0f * rounding_gamma(3);
+
 template <class T>
 struct SlabInterval {
     T near, far;
@@ -71,7 +74,6 @@ SlabInterval<T> slab_interval(T lo, T hi, T origin, T inv_dir) {
     using L = Lanes<T>;
     const T to_lo = lo - origin, to_hi = hi - origin;
     if constexpr (Slabs == SlabTest::robust) {
-        constexpr float kFarScale = 1.0f + 2.0f * rounding_gamma(3);
         const T zero(0.0f), tiny(std::numeric_limits<float>::min());
         const T t_lo = L::select(to_lo == zero, -tiny, to_lo) * inv_dir;
         const T t_hi = L::select(to_hi == zero, tiny, to_hi) * inv_dir;
@@ -92,7 +94,6 @@ SlabInterval<T> slab_interval(T lo, T hi, T origin, T inv_dir) {
 /// compare-and-select pair per plane in the single-ray BVH's box test.
 template <class T>
 void clip_to_ordered_slab(T near_plane, T far_plane, T origin, T inv_dir, T& entry, T& exit) {
-    constexpr float kFarScale = 1.0f + 2.0f * rounding_gamma(3);
     using L = Lanes<T>;
     entry = L::max((near_plane - origin) * inv_dir, entry);
     exit = L::min((far_plane - origin) * inv_dir * T(kFarScale), exit);

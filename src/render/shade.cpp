@@ -91,25 +91,19 @@ std::vector<float> ambient_visibility(const Scene& scene, const AnyAccel& accel,
             const Vec3f p = primary.origin + primary.dir * hits[pixel].t;
             const Vec3f ng = facing_geometric_normal(scene.mesh, hits[pixel].triangle, primary.dir);
             const Vec3f n = shading_normal(scene.mesh, hits[pixel], primary.dir, plan.normals);
-            for (std::uint32_t s = 0; s < samples; ++s) {
+            for (std::uint32_t s = 0; s < samples; ++s)
                 rays.push_back(hemisphere_ray(p, ng, n, sample_uniforms(pixel, s), plan.occlusion_radius));
-                pixels.push_back(pixel);
-            }
+            pixels.push_back(pixel);
         }
         std::vector<std::uint8_t> occluded(rays.size());
         occlude_stream(accel, rays, occluded, plan.occlusion_traversal);
-        std::vector<std::uint32_t> escaped(std::size_t(tile.x1 - tile.x0) * (tile.y1 - tile.y0), 0);
-        for (std::size_t i = 0; i < rays.size(); ++i) {
-            const std::uint32_t x = pixels[i] % camera.width() - tile.x0, y = pixels[i] / camera.width() - tile.y0;
-            escaped[std::size_t(y) * (tile.x1 - tile.x0) + x] += rays[i].tmax > rays[i].tmin && !occluded[i];
+        // A pixel's samples are consecutive: rays[k * samples .. (k + 1) * samples) for pixels[k].
+        for (std::size_t k = 0; k < pixels.size(); ++k) {
+            std::uint32_t escaped = 0;
+            for (std::size_t i = k * samples; i < (k + 1) * samples; ++i)
+                escaped += rays[i].tmax > rays[i].tmin && !occluded[i];
+            open[pixels[k]] = float(escaped) / float(samples);
         }
-        for (std::uint32_t y = tile.y0; y < tile.y1; ++y)
-            for (std::uint32_t x = tile.x0; x < tile.x1; ++x) {
-                const std::size_t pixel = std::size_t(y) * camera.width() + x;
-                if (hits[pixel].is_hit())
-                    open[pixel] = float(escaped[std::size_t(y - tile.y0) * (tile.x1 - tile.x0) + (x - tile.x0)]) /
-                                  float(samples);
-            }
     });
     return open;
 }

@@ -12,8 +12,6 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kEps = 0x1p-24, kRoundings = 64.0;
 
-double component(const Vec3d& v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
-
 /// A ray lying in the plane of a non-degenerate triangle sees it edge-on: in exact arithmetic a
 /// watertight test reports no hit (det = 0), but rounding may give one anywhere along the segment
 /// the ray shares with the triangle, and such a hit is on the surface. So the fit is "may hit"
@@ -27,12 +25,10 @@ TriangleFit fit_in_plane(const Vec3d& o, const Vec3d& d, const Vec3d& a, const V
     if (std::abs(dot(o - a, normal)) > kRoundings * kEps * reach * normal_length) return kNoHit;
     // Project on the plane of the two axes other than the normal's largest component, where the
     // triangle keeps a nonzero area, and clip the ray's parameter to each edge's inner side.
-    const Vec3d n_abs(std::abs(normal.x), std::abs(normal.y), std::abs(normal.z));
-    const int drop = n_abs.x >= n_abs.y && n_abs.x >= n_abs.z ? 0 : n_abs.y >= n_abs.z ? 1 : 2;
+    const int drop = largest_abs_axis(normal);
     const int i = (drop + 1) % 3, j = (drop + 2) % 3;
     auto edge = [&](const Vec3d& p, const Vec3d& q, const Vec3d& x) {  // 2D cross of q - p and x - p
-        return (component(q, i) - component(p, i)) * (component(x, j) - component(p, j)) -
-               (component(q, j) - component(p, j)) * (component(x, i) - component(p, i));
+        return (q[i] - p[i]) * (x[j] - p[j]) - (q[j] - p[j]) * (x[i] - p[i]);
     };
     const double orientation = edge(a, b, c) > 0.0 ? 1.0 : -1.0;
     const double slack = kRoundings * kEps * reach * reach;  // edge functions are areas
