@@ -110,6 +110,17 @@ void add_common_options(CLI::App& command, CommonOptions& common, bool with_acce
                 "octree: children a triangle goes to, those it overlaps (triangle, default) or those its "
                 "bounding box overlaps (box, the study's rule)")
             ->check(CLI::IsMember({"triangle", "box"}));
+        // The full sweep build is the quality reference the binned build's SAH cost is held to.
+        command
+            .add_option_function<std::string>(
+                "--bvh-builder",
+                [&common](const std::string& builder) {
+                    common.accel_options.bvh.builder =
+                        builder == "sweep" ? BvhBuilder::sweep_sah : BvhBuilder::binned_sah;
+                },
+                "BVH: SAH over centroid bins (binned, default) or over every centroid plane (sweep, slow, "
+                "the quality reference)")
+            ->check(CLI::IsMember({"binned", "sweep"}));
     }
     command.add_option("--threads", common.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096));
 }
