@@ -142,51 +142,47 @@ void fill_bins(std::span<const PrimitiveRef> refs, const BuildRange& range, cons
     per_thread.combine_each([&](const BinGrid& partial) { grid.merge(partial); });
 }
 
-/// The union of centroids, each computed as PrimitiveRef::centroid computes it.
-struct CentroidBounds {
-    Float4 lo = Float4(kInfinity), hi = Float4(-kInfinity);
+/// The unions of the centroids that go left and of those that go right, each centroid computed as
+/// PrimitiveRef::centroid computes it. Both are updated for every reference, through a select, so
+/// the side taken is never a branch or a store the next update waits for.
+struct SideCentroidBounds {
+    Float4 lo[2] = {Float4(kInfinity), Float4(kInfinity)};
+    Float4 hi[2] = {Float4(-kInfinity), Float4(-kInfinity)};
 
-    void add(const PrimitiveRef& ref) {
+    void add(const PrimitiveRef& ref, bool goes_left) {
         const Float4 centroid = (load_lo(ref) + load_hi(ref)) * Float4(0.5f);
-        lo = xsimd::min(lo, centroid);
-        hi = xsimd::max(hi, centroid);
+        const auto left = Float4::batch_bool_type(goes_left);
+        lo[0] = xsimd::min(lo[0], xsimd::select(left, centroid, Float4(kInfinity)));
+        hi[0] = xsimd::max(hi[0], xsimd::select(left, centroid, Float4(-kInfinity)));
+        lo[1] = xsimd::min(lo[1], xsimd::select(left, Float4(kInfinity), centroid));
+        hi[1] = xsimd::max(hi[1], xsimd::select(left, Float4(-kInfinity), centroid));
     }
-    Aabb bounds() const {
+    Aabb bounds(int side) const {
         alignas(16) float l[4], h[4];
-        lo.store_aligned(l);
-        hi.store_aligned(h);
+        lo[side].store_aligned(l);
+        hi[side].store_aligned(h);
         return {{l[0], l[1], l[2]}, {h[0], h[1], h[2]}};
     }
 };
 
-/// Copies refs [begin, end) from `from` to `to` and returns the union of their centroids.
-Aabb copy_and_bound_centroids(const PrimitiveRef* from, PrimitiveRef* to, std::uint32_t begin, std::uint32_t end) {
-    CentroidBounds centroids;
-    for (std::uint32_t i = begin; i != end; ++i) {
-        centroids.add(from[i]);
-        load_whole(from[i]).store_aligned(reinterpret_cast<float*>(to + i));
-    }
-    return centroids.bounds();
-}
-
-/// Scatters refs [begin, end) of `from` into the same range of `to`: those whose bin position on
-/// Axis, (centroid - origin) * scale computed as the binning computes it, is below `left_limit`
-/// from the front, the others from the back. Returns the end of the left ones. Each reference
-/// is written to both candidate slots; the wrong one lies in the gap between the two fronts and
-/// is overwritten later (when the fronts meet, both slots are the same). Axis is a template
-/// parameter so the coordinates load from fixed offsets.
+/// Partitions refs [begin, end) in place: those whose bin position on Axis, (centroid - origin) *
+/// scale computed as the binning computes it, is below `left_limit` to the front. Returns the end
+/// of the left ones. Without branches (a data-dependent branch would mispredict half the time):
+/// each reference is swapped with the first right one and the left end advances when it went left
+/// (Lomuto's scheme), so refs [begin, left_end) go left and [left_end, i) go right after step i.
+/// Axis is a template parameter so the coordinates load from fixed offsets.
 template <int Axis>
-std::uint32_t scatter_by_position(const PrimitiveRef* from, PrimitiveRef* to, std::uint32_t begin, std::uint32_t end,
-                                  float origin, float scale, float left_limit) {
-    std::uint32_t left_end = begin, right_begin = end;
+std::uint32_t partition_by_position(PrimitiveRef* refs, std::uint32_t begin, std::uint32_t end, float origin,
+                                    float scale, float left_limit, SideCentroidBounds& centroids) {
+    std::uint32_t left_end = begin;
     for (std::uint32_t i = begin; i != end; ++i) {
-        const float position = ((from[i].lo[Axis] + from[i].hi[Axis]) * 0.5f - origin) * scale;
-        const std::uint32_t left = position < left_limit;
-        const Float8 ref = load_whole(from[i]);
-        ref.store_aligned(reinterpret_cast<float*>(to + left_end));
-        ref.store_aligned(reinterpret_cast<float*>(to + right_begin - 1));
-        left_end += left;
-        right_begin -= 1 - left;
+        const float position = ((refs[i].lo[Axis] + refs[i].hi[Axis]) * 0.5f - origin) * scale;
+        const bool goes_left = position < left_limit;
+        centroids.add(refs[i], goes_left);
+        const Float8 ref = load_whole(refs[i]);
+        load_whole(refs[left_end]).store_aligned(reinterpret_cast<float*>(refs + i));
+        ref.store_aligned(reinterpret_cast<float*>(refs + left_end));
+        left_end += goes_left;
     }
     return left_end;
 }
@@ -286,7 +282,7 @@ BinMapping::BinMapping(const Aabb& centroid_bounds, int bin_count) : count(bin_c
 }
 
 BinnedSahSplitter::BinnedSahSplitter(std::span<PrimitiveRef> refs, const BvhOptions& options)
-    : refs_(refs), scratch_(std::make_unique_for_overwrite<PrimitiveRef[]>(refs.size())), options_(options) {}
+    : refs_(refs), options_(options) {}
 
 int BinnedSahSplitter::bins_for_count(std::uint32_t count) const {
     if (count >= BvhOptions::kLargeNodeMin) return options_.large_node_bin_count;
@@ -335,25 +331,22 @@ ChildRanges BinnedSahSplitter::partition(const BuildRange& range, const Split& s
                 {range.begin + 1, range.end, split.right_bounds, {pair[1].centroid(), pair[1].centroid()}},
                 split.axis};
     }
-    // Scatter into scratch without branches (left from the front, right from the back: a
-    // data-dependent branch would mispredict half the time), then copy back, bounding centroids.
     const BinMapping mapping(range.centroid_bounds, bins_for_count(range.count()));
     const int axis = split.axis;
     // A reference goes left when its bin, int(position), is at most last_left_bin: for the
     // position >= 0 that centroids at or beyond the origin have, that is position < bin + 1.
     const float left_limit = float(split.last_left_bin + 1);
-    const auto scatter = [&]<int Axis>() {
-        return scatter_by_position<Axis>(refs_.data(), scratch_.get(), range.begin, range.end, mapping.origin[Axis],
-                                         mapping.scale[Axis], left_limit);
+    SideCentroidBounds centroids;
+    const auto partition_on = [&]<int Axis>() {
+        return partition_by_position<Axis>(refs_.data(), range.begin, range.end, mapping.origin[Axis],
+                                           mapping.scale[Axis], left_limit, centroids);
     };
-    const std::uint32_t left_end = axis == 0   ? scatter.template operator()<0>()
-                                   : axis == 1 ? scatter.template operator()<1>()
-                                               : scatter.template operator()<2>();
+    const std::uint32_t left_end = axis == 0   ? partition_on.template operator()<0>()
+                                   : axis == 1 ? partition_on.template operator()<1>()
+                                               : partition_on.template operator()<2>();
     assert(left_end - range.begin == split.left_count);
-    const Aabb left_centroids = copy_and_bound_centroids(scratch_.get(), refs_.data(), range.begin, left_end);
-    const Aabb right_centroids = copy_and_bound_centroids(scratch_.get(), refs_.data(), left_end, range.end);
-    return {{range.begin, left_end, split.left_bounds, left_centroids},
-            {left_end, range.end, split.right_bounds, right_centroids},
+    return {{range.begin, left_end, split.left_bounds, centroids.bounds(0)},
+            {left_end, range.end, split.right_bounds, centroids.bounds(1)},
             axis};
 }
 

@@ -5,7 +5,6 @@
 // Large nodes are binned in parallel; the bins are unions and counts, so the result does not
 // depend on how the work was divided among threads.
 #include <cstdint>
-#include <memory>
 #include <span>
 
 #include "accel/bvh/build_primitives.h"
@@ -57,7 +56,6 @@ private:
     int bins_for_count(std::uint32_t count) const;
 
     std::span<PrimitiveRef> refs_;
-    std::unique_ptr<PrimitiveRef[]> scratch_;  // partition() scatters here, each node in its own range
     const BvhOptions& options_;
 };
 
