@@ -165,24 +165,31 @@ struct SideCentroidBounds {
     }
 };
 
-/// Partitions refs [begin, end) in place: those whose bin position on Axis, (centroid - origin) *
-/// scale computed as the binning computes it, is below `left_limit` to the front. Returns the end
-/// of the left ones. Without branches (a data-dependent branch would mispredict half the time):
-/// each reference is swapped with the first right one and the left end advances when it went left
-/// (Lomuto's scheme), so refs [begin, left_end) go left and [left_end, i) go right after step i.
-/// Axis is a template parameter so the coordinates load from fixed offsets.
+/// Where a reference's centroid falls along Axis, in bins of a BinMapping (origin, scale): exactly
+/// as fill_bins computes it (centroid, minus origin, times scale), so every pass puts a reference
+/// in the same bin.
 template <int Axis>
+float bin_position(const PrimitiveRef& ref, float origin, float scale) {
+    return ((ref.lo[Axis] + ref.hi[Axis]) * 0.5f - origin) * scale;
+}
+
+/// Partitions refs [begin, end) in place: those whose bin position on Axis goes_left(position)
+/// accepts to the front. Returns the end of the left ones. Without branches (a data-dependent
+/// branch would mispredict half the time): each reference is swapped with the first right one
+/// and the left end advances when it went left (Lomuto's scheme), so refs [begin, left_end) go
+/// left and [left_end, i) go right after step i. Axis is a template parameter so the coordinates
+/// load from fixed offsets.
+template <int Axis, class GoesLeft>
 std::uint32_t partition_by_position(PrimitiveRef* refs, std::uint32_t begin, std::uint32_t end, float origin,
-                                    float scale, float left_limit, SideCentroidBounds& centroids) {
+                                    float scale, GoesLeft goes_left, SideCentroidBounds& centroids) {
     std::uint32_t left_end = begin;
     for (std::uint32_t i = begin; i != end; ++i) {
-        const float position = ((refs[i].lo[Axis] + refs[i].hi[Axis]) * 0.5f - origin) * scale;
-        const bool goes_left = position < left_limit;
-        centroids.add(refs[i], goes_left);
+        const bool left = goes_left(bin_position<Axis>(refs[i], origin, scale));
+        centroids.add(refs[i], left);
         const Float8 ref = load_whole(refs[i]);
         load_whole(refs[left_end]).store_aligned(reinterpret_cast<float*>(refs + i));
         ref.store_aligned(reinterpret_cast<float*>(refs + left_end));
-        left_end += goes_left;
+        left_end += left;
     }
     return left_end;
 }
@@ -270,6 +277,93 @@ BinnedSahSplitter::Split cheapest_boundary(const BinGrid& grid, const BvhOptions
     return best;
 }
 
+/// The fine bins of a refined split: the two bins either side of the best boundary, each cut
+/// into kFineBinsPerBin, along the split's axis.
+struct FineBins {
+    static constexpr int kCount = 2 * BinnedSahSplitter::kFineBinsPerBin;
+    BinBox boxes[kCount];
+    std::uint32_t counts[kCount] = {};
+
+    FineBins() {
+        for (BinBox& box : boxes) box.clear();
+    }
+};
+
+/// Drops the references of bins first_bin and first_bin + 1 into the fine bins. A reference's bin
+/// is int(position) clamped to last_bin, so it is one of the two exactly when first_bin <=
+/// position < first_bin + 2, or position >= first_bin when first_bin + 1 is the last bin (which
+/// also holds the positions at its end): compared as floats, without converting every position.
+template <int Axis>
+void fill_fine_bins(const PrimitiveRef* refs, std::uint32_t begin, std::uint32_t end, float origin, float scale,
+                    int first_bin, int last_bin, FineBins& fine) {
+    const float first = float(first_bin), fine_scale = float(BinnedSahSplitter::kFineBinsPerBin);
+    const float past = first_bin + 1 == last_bin ? kInfinity : float(first_bin + 2);
+    for (std::uint32_t i = begin; i != end; ++i) {
+        const float position = bin_position<Axis>(refs[i], origin, scale);
+        if (!(position >= first && position < past)) continue;
+        const int f = std::min(int((position - first) * fine_scale), FineBins::kCount - 1);
+        fine.boxes[f].add(load_lo_negated_hi(refs[i]));
+        ++fine.counts[f];
+    }
+}
+
+void refine_split(std::span<const PrimitiveRef> refs, const BuildRange& range, const BinMapping& mapping,
+                  const BinGrid& grid, const BvhOptions& options, BinnedSahSplitter::Split& best) {
+    const int axis = best.axis, first_bin = best.last_left_bin;
+    if (first_bin + 1 >= grid.count) return;
+    FineBins fine;
+    const auto fill = [&]<int Axis>() {
+        fill_fine_bins<Axis>(refs.data(), range.begin, range.end, mapping.origin[Axis], mapping.scale[Axis], first_bin,
+                             grid.count - 1, fine);
+    };
+    axis == 0 ? fill.template operator()<0>() : axis == 1 ? fill.template operator()<1>() : fill.template operator()<2>();
+
+    // What lies outside the two bins stays on its side whatever the fine boundary.
+    BinBox below, above;
+    below.clear();
+    above.clear();
+    std::uint32_t below_count = 0, above_count = 0;
+    for (int b = 0; b < first_bin; ++b) {
+        below.add(grid.boxes[axis][b]);
+        below_count += std::uint32_t(grid.counts[b][axis]);
+    }
+    for (int b = first_bin + 2; b < grid.count; ++b) {
+        above.add(grid.boxes[axis][b]);
+        above_count += std::uint32_t(grid.counts[b][axis]);
+    }
+    float right_area[FineBins::kCount];
+    std::uint32_t right_count[FineBins::kCount];
+    BinBox right = above;
+    std::uint32_t count = above_count;
+    for (int f = FineBins::kCount - 1; f > 0; --f) {
+        right.add(fine.boxes[f]);
+        count += fine.counts[f];
+        right_area[f] = right.bounds().surface_area();
+        right_count[f] = count;
+    }
+    const float traversal = options.traversal_cost * range.bounds.surface_area();
+    BinBox left = below;
+    count = below_count;
+    for (int f = 0; f + 1 < FineBins::kCount; ++f) {
+        left.add(fine.boxes[f]);
+        count += fine.counts[f];
+        if (count == 0 || right_count[f + 1] == 0) continue;
+        const float cost = traversal + options.intersection_cost * (left.bounds().surface_area() * float(count) +
+                                                                    right_area[f + 1] * float(right_count[f + 1]));
+        if (cost < best.cost) {  // ties keep the bin boundary (the middle fine boundary is the same split)
+            best.cost = cost;
+            best.left_count = count;
+            best.refined = true;
+            best.fine_last_left = f;
+        }
+    }
+    if (!best.refined) return;
+    BinBox left_box = below, right_box = above;
+    for (int f = 0; f < FineBins::kCount; ++f) (f <= best.fine_last_left ? left_box : right_box).add(fine.boxes[f]);
+    best.left_bounds = left_box.bounds();
+    best.right_bounds = right_box.bounds();
+}
+
 }  // namespace
 
 BinMapping::BinMapping(const Aabb& centroid_bounds, int bin_count) : count(bin_count) {
@@ -303,6 +397,8 @@ BinnedSahSplitter::Split BinnedSahSplitter::find_sah_split(const BuildRange& ran
     if (best.axis >= 0) {
         best.left_bounds = union_of_bins(grid.boxes[best.axis], 0, best.last_left_bin);
         best.right_bounds = union_of_bins(grid.boxes[best.axis], best.last_left_bin + 1, grid.count - 1);
+        if (range.count() >= kRefineMin && range.count() < kRefineEnd)
+            refine_split(refs_, range, mapping, grid, options_, best);
     }
     return best;
 }
@@ -335,11 +431,24 @@ ChildRanges BinnedSahSplitter::partition(const BuildRange& range, const Split& s
     const int axis = split.axis;
     // A reference goes left when its bin, int(position), is at most last_left_bin: for the
     // position >= 0 that centroids at or beyond the origin have, that is position < bin + 1.
-    const float left_limit = float(split.last_left_bin + 1);
+    // A refined split also takes the fine bins up to fine_last_left of the two bins from
+    // last_left_bin on: a fine bin is int((position - last_left_bin) * kFineBinsPerBin), as
+    // fill_fine_bins computes it.
+    const float left_limit = float(split.last_left_bin + 1), first_fine = float(split.last_left_bin);
+    const float fine_limit = float(split.fine_last_left + 1), fine_scale = float(kFineBinsPerBin);
     SideCentroidBounds centroids;
     const auto partition_on = [&]<int Axis>() {
+        if (split.refined)
+            return partition_by_position<Axis>(
+                refs_.data(), range.begin, range.end, mapping.origin[Axis], mapping.scale[Axis],
+                [&](float position) {
+                    // | rather than ||: both compares, no branch on the data.
+                    return (position < first_fine) | ((position - first_fine) * fine_scale < fine_limit);
+                },
+                centroids);
         return partition_by_position<Axis>(refs_.data(), range.begin, range.end, mapping.origin[Axis],
-                                           mapping.scale[Axis], left_limit, centroids);
+                                           mapping.scale[Axis], [&](float position) { return position < left_limit; },
+                                           centroids);
     };
     const std::uint32_t left_end = axis == 0   ? partition_on.template operator()<0>()
                                    : axis == 1 ? partition_on.template operator()<1>()

@@ -35,11 +35,27 @@ public:
         std::uint32_t left_count = 0;
         float cost = kInfinity;  // traversal_cost * A + intersection_cost * (A_L N_L + A_R N_R)
         Aabb left_bounds, right_bounds;
+        /// A refined split's boundary lies inside bins last_left_bin and last_left_bin + 1, after
+        /// fine bin fine_last_left of the 2 * kFineBinsPerBin the two are cut into.
+        bool refined = false;
+        int fine_last_left = 0;
     };
+
+    /// Nodes of kRefineMin to kRefineEnd - 1 references refine their best split: its two bins,
+    /// one each side of its boundary, are cut into fine bins and the SAH evaluated at every fine
+    /// boundary. Where centroids cluster far closer than a bin's width (small objects in a large
+    /// room), bins alone cannot cut around the cluster: on Room that kept the binned tree 9% above
+    /// the full sweep's SAH even with 256 bins a node; refining brings it within 2%, for one more
+    /// pass over one axis. Refining larger nodes gained nothing on any scene measured, and their
+    /// pass streams from memory.
+    static constexpr std::uint32_t kRefineMin = 1024, kRefineEnd = 65536;
+    /// Fine bins per bin when a split is refined.
+    static constexpr int kFineBinsPerBin = 16;
 
     BinnedSahSplitter(std::span<PrimitiveRef> refs, const BvhOptions& options);
 
-    /// The cheapest split at a bin boundary; cost is +inf when there is none.
+    /// The cheapest split at a bin boundary (or a fine one, see kRefineMin); cost is +inf when
+    /// there is none.
     Split find_sah_split(const BuildRange& range) const;
     ChildRanges partition(const BuildRange& range, const Split& split);
     /// Object median along the axis of largest centroid extent (any halves when all coincide).
