@@ -247,7 +247,8 @@ void add_options(CLI::App& app, Arguments& args) {
     app.add_option("--embree", args.embree, "Embree rows, comma separated: 1,4,8,16 (rtcIntersect1/4/8/16) or none")
         ->delimiter(',');
     app.add_option("--sweep", args.sweep,
-                   "sweep one build parameter: octree-depth, bvh-buckets, bvh-cost, kd-cost, kd-empty-bonus");
+                   "sweep one build parameter: octree-depth, bvh-buckets, bvh-cost, kd-cost, kd-empty-bonus, "
+                   "kd-perfect-splits");
     app.add_option("--csv", args.csv, "write every configuration as CSV");
     app.add_option("--json", args.json, "write machine info and every configuration as JSON (bench/plot.py reads it)");
     app.add_option("--markdown", args.markdown, "write the tables as Markdown (for bench/RESULTS.md)");

@@ -47,6 +47,8 @@ sweep octree-depth octree-depth_large --only hall,city --width 96 --height 54
 for name in bvh-buckets bvh-cost kd-cost kd-empty-bonus; do
     sweep $name $name --width 640 --height 360
 done
+# Perfect splits on the study's scenes, where large triangles straddle many cells (Room).
+sweep kd-perfect-splits kd-perfect-splits --scenes $scenes --width 960 --height 540
 
 # Charts of the main runs last (each run of plot.py rewrites the charts its input has).
 $python bench/plot.py $out/variants.json --out bench/charts/variants

@@ -29,6 +29,9 @@ void set_kdtree_cost_ratio(AccelOptions& options, double value) {
 
 void set_kdtree_empty_bonus(AccelOptions& options, double value) { options.kdtree.empty_bonus = float(value); }
 
+/// Havran's perfect splits off (0, the default) or on (1).
+void set_kdtree_perfect_splits(AccelOptions& options, double value) { options.kdtree.perfect_splits = value != 0.0; }
+
 }  // namespace
 
 std::span<const SweepSpec> sweep_specs() {
@@ -50,6 +53,7 @@ std::span<const SweepSpec> sweep_specs() {
          "empty_bonus",
          {0.0, 0.2, 0.4, 0.6, 0.8, 0.9},
          set_kdtree_empty_bonus},
+        {"kd-perfect-splits", AccelKind::kdtree, "perfect_splits", {0, 1}, set_kdtree_perfect_splits},
     };
     return specs;
 }

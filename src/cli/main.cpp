@@ -121,6 +121,9 @@ void add_common_options(CLI::App& command, CommonOptions& common, bool with_acce
                 "BVH: SAH over centroid bins (binned, default) or over every centroid plane (sweep, slow, "
                 "the quality reference)")
             ->check(CLI::IsMember({"binned", "sweep"}));
+        // Havran's perfect splits, off by default: kept selectable to measure what clipping buys.
+        command.add_flag("--kd-perfect-splits", common.accel_options.kdtree.perfect_splits,
+                         "KD-tree: clip triangles straddling a split plane to each child's cell (Havran)");
     }
     command.add_option("--threads", common.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096));
 }
