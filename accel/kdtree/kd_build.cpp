@@ -2,8 +2,10 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
@@ -120,6 +122,13 @@ void write_events(std::size_t count, BoxOf box_of, int axis, std::uint32_t first
     }
 }
 
+/// Whether a list this long is worth one task per axis: long enough, and a second thread to take
+/// them (one thread runs them in order, with one axis's scratch space and no task machinery).
+bool parallel_axes(std::size_t size) {
+    return size >= kParallelAxesFrom && tbb::this_task_arena::max_concurrency() > 1 &&
+           tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) > 1;
+}
+
 /// Runs f(0), f(1), f(2), as parallel tasks when `parallel`.
 template <class F>
 void for_each_axis(bool parallel, F f) {
@@ -134,11 +143,48 @@ void for_each_axis(bool parallel, F f) {
 using Destination = std::array<std::uint32_t, 2>;
 
 /// Copies the events a child takes (Children: 0 below, 1 above, 2 both) renumbered to out[c],
-/// advancing it; out[c] may be written one past the events kept. keep[c] is 0 for a child that
-/// builds no lists (its out[c] is a sink).
+/// advancing it; without AVX-512, out[c] may be written one past the events kept. keep[c] is 0 for
+/// a child that builds no lists (its out[c] is a sink).
 template <int Children>
 void filter_events(std::span<const Event> events, std::span<const Destination> dest,
                    const std::array<std::uint32_t, 2>& keep, std::array<Event*, 2>& out) {
+#if TRIDENT_KD_AVX512
+    // Eight events at a time: their destinations gathered, each child's events compressed to the
+    // front of a register and stored under a mask of as many lanes. Nothing is written past the
+    // events kept.
+    static_assert(sizeof(Destination) == 8 && sizeof(Event) == 8);
+    const auto* const source = reinterpret_cast<const long long*>(events.data());
+    const auto* const table = reinterpret_cast<const long long*>(dest.data());
+    auto* below = reinterpret_cast<long long*>(out[0]);
+    auto* above = reinterpret_cast<long long*>(out[1]);
+    const __mmask8 keep_below = keep[0] ? 0xFF : 0, keep_above = keep[1] ? 0xFF : 0;
+    // An event is position | prim_type << 32; a destination below | above << 32.
+    const __m512i position_and_type = _mm512_set1_epi64(0x3FFFFFFFFll);
+    const __m512i below_bit = _mm512_set1_epi64(1), above_bit = _mm512_set1_epi64(1ll << 32);
+    const std::size_t n = events.size();
+    for (std::size_t i = 0; i < n; i += 8) {
+        const __mmask8 lanes = n - i >= 8 ? 0xFF : __mmask8((1u << (n - i)) - 1u);
+        const __m512i e = _mm512_maskz_loadu_epi64(lanes, source + i);
+        const __m512i d =
+            _mm512_mask_i64gather_epi64(_mm512_setzero_si512(), lanes, _mm512_maskz_srli_epi64(0xFF, e, 34), table, 8);
+        if constexpr (Children != 1) {
+            const __mmask8 take = _mm512_mask_test_epi64_mask(keep_below, d, below_bit);
+            const __m512i renumbered =
+                _mm512_ternarylogic_epi64(e, _mm512_maskz_slli_epi64(0xFF, d, 32), position_and_type, 0xE4);
+            _mm512_mask_storeu_epi64(below, __mmask8((1u << std::popcount(unsigned(take))) - 1u),
+                                     _mm512_maskz_compress_epi64(take, renumbered));
+            below += std::popcount(unsigned(take));
+        }
+        if constexpr (Children != 0) {
+            const __mmask8 take = _mm512_mask_test_epi64_mask(keep_above, d, above_bit);
+            const __m512i renumbered = _mm512_ternarylogic_epi64(e, d, position_and_type, 0xE4);
+            _mm512_mask_storeu_epi64(above, __mmask8((1u << std::popcount(unsigned(take))) - 1u),
+                                     _mm512_maskz_compress_epi64(take, renumbered));
+            above += std::popcount(unsigned(take));
+        }
+    }
+    out = {reinterpret_cast<Event*>(below), reinterpret_cast<Event*>(above)};
+#else
     Event* below = out[0];
     Event* above = out[1];
     for (const Event& e : events) {
@@ -154,6 +200,7 @@ void filter_events(std::span<const Event> events, std::span<const Destination> d
         }
     }
     out = {below, above};
+#endif
 }
 
 class SahBuilder {
@@ -216,13 +263,14 @@ private:
             sizes[axis] = event_count(root.flat_axes, axis);
             root.events[axis] = scratch.kept.allocate<Event>(sizes[axis]);
         }
-        const std::span<Event> sort_space = scratch.temp.allocate<Event>(3 * 2 * n);
-        for_each_axis(n >= kParallelAxesFrom, [&](int axis) {
+        const bool parallel = parallel_axes(n);
+        const std::span<Event> sort_space = scratch.temp.allocate<Event>((parallel ? 3 : 1) * 2 * n);
+        for_each_axis(parallel, [&](int axis) {
             const std::size_t flat = 2 * n - sizes[axis];
             write_events(
                 n, [&](std::size_t i) -> const Aabb& { return bounds_[root.prims[i]]; }, axis, 0, flat,
                 root.events[axis]);
-            kd::sort_events(root.events[axis], sort_space.subspan(2 * n * std::size_t(axis)));
+            kd::sort_events(root.events[axis], sort_space.subspan(parallel ? 2 * n * std::size_t(axis) : 0));
         });
         scratch.temp.release(temp_mark);
         return root;
@@ -312,7 +360,7 @@ private:
 
     Split find_split(const NodeWork& node) const {
         std::array<Split, 3> best;
-        for_each_axis(node.size() >= kParallelAxesFrom, [&](int axis) { best[axis] = sweep(node, axis); });
+        for_each_axis(parallel_axes(node.size()), [&](int axis) { best[axis] = sweep(node, axis); });
         Split out;
         for (const Split& s : best)
             if (s.cost < out.cost) out = s;  // ties to the lower axis
@@ -443,8 +491,9 @@ private:
             const std::size_t size = kept_count[c] + fresh_count[c];
             lists[c] = children_may_split && size > options_.leaf_triangles;
             child[c].cell = cells[c];
-            child[c].prims = scratch.kept.allocate<std::uint32_t>(size);
-            child[c].flat_axes = scratch.kept.allocate<std::uint8_t>(size);
+            // One slot of slack: the branch-free pass below may write one past the triangles.
+            child[c].prims = scratch.kept.allocate<std::uint32_t>(size + 1).first(size);
+            child[c].flat_axes = scratch.kept.allocate<std::uint8_t>(size + 1).first(size);
             if (!lists[c]) continue;
             for (int axis = 0; axis < 3; ++axis) {
                 const std::size_t flat = c == 0 ? flat_kept_below[axis] : flat_kept[axis] - flat_kept_below[axis];
@@ -463,17 +512,30 @@ private:
         // New local indices: one-sided triangles keep their order, straddlers follow. dest[i][c]
         // is the index in child c << 2 | 1 when that child takes the triangle's events from the
         // node's lists, 0 when not (the other side, or fresh events).
+        // Without branches (which side is unpredictable): each triangle is written to both
+        // children, and the next triangle overwrites it where it does not stay.
         const std::span<Destination> dest = scratch.temp.allocate<Destination>(n);
         std::array<std::uint32_t, 2> next{0, 0};
-        for (std::size_t i = 0; i < n; ++i) {
-            const unsigned s = side[i];
-            dest[i] = {0, 0};
-            if (s != kBelow && s != kAbove) continue;  // a straddler
-            const unsigned c = s >> 1;                 // kBelow -> 0, kAbove -> 1
-            const std::uint32_t index = next[c]++;
-            child[c].prims[index] = node.prims[i];
-            child[c].flat_axes[index] = node.flat_axes[i];
-            dest[i][c] = index << 2 | 1u;
+        {
+            std::uint32_t* const below_prims = child[0].prims.data();
+            std::uint32_t* const above_prims = child[1].prims.data();
+            std::uint8_t* const below_flat = child[0].flat_axes.data();
+            std::uint8_t* const above_flat = child[1].flat_axes.data();
+            const std::uint32_t* const prims = node.prims.data();
+            const std::uint8_t* const flat_axes = node.flat_axes.data();
+            std::uint32_t below = 0, above = 0;
+            for (std::size_t i = 0; i < n; ++i) {
+                const unsigned s = side[i];
+                const std::uint32_t goes_below = s == kBelow, goes_above = s == kAbove;
+                below_prims[below] = prims[i];
+                below_flat[below] = flat_axes[i];
+                above_prims[above] = prims[i];
+                above_flat[above] = flat_axes[i];
+                dest[i] = {(below << 2 | 1u) & -goes_below, (above << 2 | 1u) & -goes_above};
+                below += goes_below;
+                above += goes_above;
+            }
+            next = {below, above};
         }
         for (std::size_t j = 0; j < straddler_count; ++j) {
             const std::uint32_t i = straddlers[j];
@@ -495,25 +557,25 @@ private:
         // without perfect splits the straddlers' new ends and starts at the plane go in between;
         // with perfect splits, the fresh events are written, sorted and merged in front.
         const std::span<Event> fresh_space = scratch.temp.allocate<Event>(fresh_total);
-        const bool parallel = n >= kParallelAxesFrom;
+        const bool parallel = parallel_axes(n);
         const std::span<Event> sort_space = scratch.temp.allocate<Event>((parallel ? 3 : 1) * sort_size);
         const std::array<std::uint32_t, 2> keep{lists[0], lists[1]};
         for_each_axis(parallel, [&](int axis) {
             Event sink[2];  // where a child without lists gets its events
             std::array<Event*, 2> out{};
-            for (int c = 0; c < 2; ++c)
-                out[c] = lists[c] ? child[c].events[axis].data() + fresh_size[c][axis] : sink;
+            for (int c = 0; c < 2; ++c) out[c] = lists[c] ? child[c].events[axis].data() + fresh_size[c][axis] : sink;
             const std::span<const Event> events = node.events[axis];
             if (axis != k) {
                 filter_events<2>(events, dest, keep, out);
             } else {
-                const auto first_planar = std::size_t(
-                    std::lower_bound(events.begin(), events.end(), Event::make(p, 0, EventType::planar), kd::event_before) -
-                    events.begin());
-                const auto first_start = std::size_t(
-                    std::lower_bound(events.begin() + std::ptrdiff_t(first_planar), events.end(),
-                                     Event::make(p, 0, EventType::start), kd::event_before) -
-                    events.begin());
+                const auto first_planar =
+                    std::size_t(std::lower_bound(events.begin(), events.end(), Event::make(p, 0, EventType::planar),
+                                                 kd::event_before) -
+                                events.begin());
+                const auto first_start =
+                    std::size_t(std::lower_bound(events.begin() + std::ptrdiff_t(first_planar), events.end(),
+                                                 Event::make(p, 0, EventType::start), kd::event_before) -
+                                events.begin());
                 // Below: events before the plane, ends on it; [straddlers' ends]; planars on it.
                 filter_events<0>(events.first(first_planar), dest, keep, out);
                 if (!perfect && lists[0])

@@ -11,6 +11,15 @@
 
 #include "accel/kdtree/radix_sort.h"
 
+// The builder's hot loops (the SAH sweep, the filtering of event lists) have AVX-512 forms that give
+// the same results as their scalar forms; the scalar forms serve where AVX-512 is not compiled in.
+#if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__AVX512DQ__)
+#include <immintrin.h>
+#define TRIDENT_KD_AVX512 1
+#else
+#define TRIDENT_KD_AVX512 0
+#endif
+
 namespace trident::kd {
 
 enum class EventType : std::uint32_t { end = 0, planar = 1, start = 2 };

@@ -13,7 +13,9 @@
 //   and the winner is remembered as a tag, its event's offset << 1 | whether planar triangles go
 //   below. The earliest candidate wins a tie, and for planar triangles the side above wins a tie
 //   (Wald and Havran).
+#include <algorithm>
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -91,12 +93,159 @@ inline void sweep_step(std::span<const Event> events, std::size_t i, const Sweep
 
 }  // namespace detail
 
-/// The cheapest plane among the events of one axis, sorted in the sweep order; none found when
-/// every candidate would leave a child equal to the node.
-inline SweepBest sweep_events(std::span<const Event> events, const SweepSetup& setup) {
+/// The sweep one event at a time: the reference, and the sweep where AVX-512 is missing.
+inline SweepBest sweep_events_scalar(std::span<const Event> events, const SweepSetup& setup) {
     detail::SweepState state;
     for (std::size_t i = 0; i < events.size(); ++i) detail::sweep_step(events, i, setup, state);
     return state.best;
+}
+
+#if TRIDENT_KD_AVX512
+namespace detail {
+
+/// Lane j of x moved to lane j + Shift, zeros below.
+template <int Shift>
+inline __m256i lanes_up(__m256i x) {
+    return _mm256_alignr_epi32(x, _mm256_setzero_si256(), 8 - Shift);
+}
+inline __m256i inclusive_sum(__m256i x) {
+    x = _mm256_add_epi32(x, lanes_up<1>(x));
+    x = _mm256_add_epi32(x, lanes_up<2>(x));
+    return _mm256_add_epi32(x, lanes_up<4>(x));
+}
+inline __m256i inclusive_max(__m256i x) {
+    x = _mm256_max_epu32(x, lanes_up<1>(x));
+    x = _mm256_max_epu32(x, lanes_up<2>(x));
+    return _mm256_max_epu32(x, lanes_up<4>(x));
+}
+// GCC 12 warns that the plain forms of some intrinsics read an undefined vector
+// (-Wmaybe-uninitialized); their zero-masked forms with every lane set are the same instructions.
+inline __m256i narrow(__m512i x) { return _mm512_maskz_cvtepi64_epi32(0xFF, x); }
+inline std::uint64_t min_lane(__m512i x) {
+    x = _mm512_maskz_min_epu64(0xFF, x, _mm512_maskz_shuffle_i64x2(0xFF, x, x, _MM_SHUFFLE(1, 0, 3, 2)));
+    x = _mm512_maskz_min_epu64(0xFF, x, _mm512_maskz_shuffle_i64x2(0xFF, x, x, _MM_SHUFFLE(2, 3, 0, 1)));
+    x = _mm512_maskz_min_epu64(0xFF, x, _mm512_maskz_shuffle_epi32(0xFFFF, x, _MM_PERM_BADC));
+    return std::uint64_t(_mm_cvtsi128_si64(_mm512_maskz_extracti32x4_epi32(0xF, x, 0)));
+}
+inline __m256i last_lane(__m256i x) { return _mm256_permutexvar_epi32(_mm256_set1_epi32(7), x); }
+
+/// Candidates in the lanes of `consider`, weighted as detail::consider does (the same double
+/// operations in the same order, so the same bits), kept per lane when strictly better.
+inline void consider_lanes(const SweepSetup& s, __mmask8 consider, __m256 position, __m512d below_area,
+                           __m512d above_area, __m256i nb, __m256i na, __m512i tags, __m512i& best_key,
+                           __m512i& best_tag) {
+    const __m512d weighted = _mm512_add_pd(_mm512_mul_pd(below_area, _mm512_maskz_cvtepu32_pd(0xFF, nb)),
+                                           _mm512_mul_pd(above_area, _mm512_maskz_cvtepu32_pd(0xFF, na)));
+    const __mmask8 below_empty = _mm256_cmpeq_epi32_mask(nb, _mm256_setzero_si256());
+    const __mmask8 above_empty = _mm256_cmpeq_epi32_mask(na, _mm256_setzero_si256());
+    const __mmask8 no_progress = (below_empty & _mm256_cmp_ps_mask(position, _mm256_set1_ps(s.lo), _CMP_EQ_OQ)) |
+                                 (above_empty & _mm256_cmp_ps_mask(position, _mm256_set1_ps(s.hi), _CMP_EQ_OQ));
+    const __m512i key = _mm512_castpd_si512(
+        _mm512_mask_mul_pd(weighted, below_empty | above_empty, weighted, _mm512_set1_pd(s.empty_scale)));
+    const __mmask8 better = _mm512_mask_cmplt_epu64_mask(consider & ~no_progress, key, best_key);
+    best_key = _mm512_mask_mov_epi64(best_key, better, key);
+    best_tag = _mm512_mask_mov_epi64(best_tag, better, tags);
+}
+
+}  // namespace detail
+
+/// The sweep eight events at a time, the same result as sweep_events_scalar bit for bit. The
+/// running counts are prefix sums over the lanes; a group's counts at its first event are a prefix
+/// maximum, the counts growing along the list. Each lane keeps its best candidate (the earliest of
+/// equal ones); the lowest tag among the lanes' best wins a tie, as the sequential sweep has it.
+inline SweepBest sweep_events_avx512(std::span<const Event> events, const SweepSetup& s) {
+    static_assert(sizeof(Event) == 8 && offsetof(Event, position) == 0);
+    const std::size_t n = events.size();
+    const void* const data = events.data();
+    // Past the end: all ones, a NaN position that equals no event's and a type that counts nothing.
+    auto load = [&](std::size_t i) {
+        const __mmask8 valid = i < n ? __mmask8(n - i >= 8 ? 0xFF : (1u << (n - i)) - 1u) : __mmask8(0);
+        return _mm512_mask_loadu_epi64(_mm512_set1_epi64(-1), valid,
+                                       static_cast<const std::uint64_t*>(data) + std::min(i, n));
+    };
+    const __m256i zero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1), type_mask = _mm256_set1_epi32(3);
+    const __m256i triangles = _mm256_set1_epi32(std::int32_t(s.triangles));
+    const __m512d side = _mm512_set1_pd(s.side), below_base = _mm512_set1_pd(s.below_base),
+                  above_base = _mm512_set1_pd(s.above_base);
+    __m256i before = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);  // events before each lane
+    __m512i tags = _mm512_setr_epi64(0, 2, 4, 6, 8, 10, 12, 14);
+    // The counts before the chunk, in every lane.
+    __m256i not_above = zero, planar = zero, below_at_group = zero, planar_at_group = zero;
+    __m256i previous_bits = _mm256_set1_epi32(-1);
+    __m512i best_key = _mm512_set1_epi64(-1), best_tag = _mm512_setzero_si512();
+    __m512i chunk = load(0);
+    for (std::size_t i = 0; i < n; i += 8) {
+        const __m512i next_chunk = load(i + 8);
+        const __m256i bits = detail::narrow(chunk);
+        const __m256i type = _mm256_and_si256(detail::narrow(_mm512_maskz_srli_epi64(0xFF, chunk, 32)), type_mask);
+        const __mmask8 valid = _mm256_cmpneq_epi32_mask(type, type_mask);
+        const __mmask8 is_start = _mm256_cmpeq_epi32_mask(type, _mm256_set1_epi32(2));
+        const __mmask8 is_planar = _mm256_cmpeq_epi32_mask(type, one);
+        const __mmask8 group_starts = _mm256_cmpneq_epi32_mask(bits, _mm256_alignr_epi32(bits, previous_bits, 7));
+        const __mmask8 group_ends =
+            valid & _mm256_cmpneq_epi32_mask(bits, _mm256_alignr_epi32(detail::narrow(next_chunk), bits, 1));
+
+        const __m256i not_above_step = _mm256_maskz_mov_epi32(valid & ~is_start, one);
+        const __m256i not_above_after = _mm256_add_epi32(not_above, detail::inclusive_sum(not_above_step));
+        const __m256i above = _mm256_sub_epi32(triangles, not_above_after);
+        // Planar events are rare: without any in the chunk or in a group left open by the previous
+        // chunk, every lane has the counts before it and none in the plane.
+        __m256i planar_before = planar, in_plane = zero;
+        const bool planars = (is_planar | _mm256_cmpneq_epi32_mask(planar, planar_at_group)) != 0;
+        if (planars) [[unlikely]] {
+            const __m256i planar_step = _mm256_maskz_mov_epi32(is_planar, one);
+            const __m256i planar_after = _mm256_add_epi32(planar, detail::inclusive_sum(planar_step));
+            planar_before = _mm256_sub_epi32(planar_after, planar_step);
+            const __m256i planar_at = _mm256_max_epu32(
+                planar_at_group, detail::inclusive_max(_mm256_maskz_mov_epi32(group_starts, planar_before)));
+            in_plane = _mm256_sub_epi32(planar_after, planar_at);
+            planar = detail::last_lane(planar_after);
+            planar_at_group = detail::last_lane(planar_at);
+        }
+        // Every event is an end, a planar or a start: below = events + planars - not above.
+        const __m256i below_before = _mm256_sub_epi32(_mm256_add_epi32(before, planar_before),
+                                                      _mm256_sub_epi32(not_above_after, not_above_step));
+        const __m256i nb =
+            _mm256_max_epu32(below_at_group, detail::inclusive_max(_mm256_maskz_mov_epi32(group_starts, below_before)));
+
+        const __m256 position = _mm256_castsi256_ps(bits);
+        const __m512d scaled = _mm512_mul_pd(_mm512_maskz_cvtps_pd(0xFF, position), side);
+        const __m512d below_area = _mm512_add_pd(below_base, scaled), above_area = _mm512_sub_pd(above_base, scaled);
+        detail::consider_lanes(s, group_ends, position, below_area, above_area, nb, _mm256_add_epi32(above, in_plane),
+                               tags, best_key, best_tag);
+        if (planars) [[unlikely]] {
+            const __mmask8 with_planars = group_ends & _mm256_cmpneq_epi32_mask(in_plane, zero);
+            if (with_planars)
+                detail::consider_lanes(s, with_planars, position, below_area, above_area,
+                                       _mm256_add_epi32(nb, in_plane), above,
+                                       _mm512_or_si512(tags, _mm512_set1_epi64(1)), best_key, best_tag);
+        }
+
+        not_above = detail::last_lane(not_above_after);
+        below_at_group = detail::last_lane(nb);
+        previous_bits = bits;
+        chunk = next_chunk;
+        before = _mm256_add_epi32(before, _mm256_set1_epi32(8));
+        tags = _mm512_add_epi64(tags, _mm512_set1_epi64(16));
+    }
+    SweepBest best;
+    best.key = detail::min_lane(best_key);
+    if (best.found()) {
+        const __mmask8 winners = _mm512_cmpeq_epi64_mask(best_key, _mm512_set1_epi64(std::int64_t(best.key)));
+        best.tag = detail::min_lane(_mm512_mask_mov_epi64(_mm512_set1_epi64(-1), winners, best_tag));
+    }
+    return best;
+}
+#endif
+
+/// The cheapest plane among the events of one axis, sorted in the sweep order; none found when
+/// every candidate would leave a child equal to the node.
+inline SweepBest sweep_events(std::span<const Event> events, const SweepSetup& setup) {
+#if TRIDENT_KD_AVX512
+    return sweep_events_avx512(events, setup);
+#else
+    return sweep_events_scalar(events, setup);
+#endif
 }
 
 }  // namespace trident::kd

@@ -191,3 +191,40 @@ TEST_CASE("the sweep picks the cheapest plane and sends planar triangles to the 
     CHECK(sweep_pick({{0, 3}}, 6).first == 3.0f);
     CHECK(sweep_pick({{3, 6}}, 6).first == 3.0f);
 }
+
+TEST_CASE("the vector sweep picks the plane and the planar side of the scalar sweep, bit for bit") {
+    // Positions on a coarse grid, so that many events share a position (groups of ends, planars and
+    // starts), and lists of every length around the vector width; cells on both sides of zero.
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<int> grid(0, 24);
+    std::uniform_int_distribution<int> length(0, 60);
+    int compared = 0;
+    for (int round = 0; round < 3000; ++round) {
+        const int triangles = length(rng);
+        const float offset = round % 3 == 0 ? -12.0f : 0.0f;
+        std::vector<Event> events;
+        for (int i = 0; i < triangles; ++i) {
+            int lo = grid(rng), hi = grid(rng);
+            if (lo > hi) std::swap(lo, hi);
+            if (round % 2 == 0 && i % 3 == 0) hi = lo;  // planars
+            const float a = float(lo) * 0.5f + offset, b = float(hi) * 0.5f + offset;
+            if (lo == hi) {
+                events.push_back(Event::make(a, std::uint32_t(i), EventType::planar));
+            } else {
+                events.push_back(Event::make(b, std::uint32_t(i), EventType::end));
+                events.push_back(Event::make(a, std::uint32_t(i), EventType::start));
+            }
+        }
+        std::sort(events.begin(), events.end(), kd::event_before);
+        const float lo = offset, hi = 12.0f + offset;
+        const double across = 1.0 + double(round % 5), side = 0.5 + double(round % 7);
+        const kd::SweepSetup setup{std::int64_t(triangles), across - double(lo) * side, across + double(hi) * side,
+                                   side, lo, hi, 0.5};
+        const kd::SweepBest scalar = kd::sweep_events_scalar(events, setup);
+        const kd::SweepBest chosen = kd::sweep_events(events, setup);
+        CHECK(chosen.key == scalar.key);
+        CHECK(chosen.tag == scalar.tag);
+        compared += scalar.found();
+    }
+    CHECK(compared > 2000);
+}
