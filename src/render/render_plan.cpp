@@ -53,16 +53,20 @@ PointLight default_light(const Aabb& box) {
 }
 
 StreamTraversal incoherent_traversal(AccelKind accel, SimdWidth requested, std::size_t triangles) {
-    constexpr std::size_t kOctreePacketTriangles = 100000;
+    // Above these sizes, octant packets narrower than 16 lanes lost to single rays (render_plan.h).
+    constexpr std::size_t kOctreeNarrowPacketTriangles = 100000, kKdNarrowPacketTriangles = 300000;
     if (requested == SimdWidth::scalar) return {};
+    const bool narrow = requested != SimdWidth::w16;
     switch (accel) {
         case AccelKind::bvh:
             return {requested == SimdWidth::w16 && is_runnable(SimdWidth::w8) ? SimdWidth::w8 : requested,
                     PacketGrouping::by_octant};
         case AccelKind::octree:
-            if (triangles >= kOctreePacketTriangles && requested != SimdWidth::w16) return {};
-            return {requested, PacketGrouping::by_octant};
+            if (narrow && triangles >= kOctreeNarrowPacketTriangles) return {};
+            break;
         case AccelKind::kdtree:
+            if (narrow && triangles >= kKdNarrowPacketTriangles) return {};
+            break;
         case AccelKind::brute:
             break;
     }

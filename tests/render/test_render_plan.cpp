@@ -110,3 +110,28 @@ TEST_CASE("plan: ao samples and heat measure pass through; modes and measures pa
     CHECK(parse_heat_measure("triangles") == HeatMeasure::triangles);
     CHECK_FALSE(parse_heat_measure("leaves"));
 }
+
+TEST_CASE("plan: incoherent rays take the traversal measured best per structure, width and size") {
+    const auto is_single = [](const StreamTraversal& t) { return t.width == SimdWidth::scalar; };
+    for (AccelKind accel : {AccelKind::bvh, AccelKind::kdtree, AccelKind::octree})
+        CHECK(is_single(incoherent_traversal(accel, SimdWidth::scalar, 1000)));
+    if (is_runnable(SimdWidth::w8)) {
+        // Small scenes: octant packets for every structure.
+        for (AccelKind accel : {AccelKind::bvh, AccelKind::kdtree, AccelKind::octree}) {
+            const StreamTraversal t = incoherent_traversal(accel, SimdWidth::w8, 50000);
+            CHECK(t.width == SimdWidth::w8);
+            CHECK(t.grouping == PacketGrouping::by_octant);
+        }
+        // Narrow packets lose above a size on the octree (100k) and the KD-tree (300k), never on the BVH.
+        CHECK(is_single(incoherent_traversal(AccelKind::octree, SimdWidth::w8, 150000)));
+        CHECK(incoherent_traversal(AccelKind::kdtree, SimdWidth::w8, 150000).width == SimdWidth::w8);
+        CHECK(is_single(incoherent_traversal(AccelKind::kdtree, SimdWidth::w8, 400000)));
+        CHECK(incoherent_traversal(AccelKind::bvh, SimdWidth::w8, 1000000).width == SimdWidth::w8);
+    }
+    if (is_runnable(SimdWidth::w16)) {
+        // 16 lanes: the BVH narrows to 8; the KD-tree and the octree keep 16 at any size.
+        CHECK(incoherent_traversal(AccelKind::bvh, SimdWidth::w16, 1000).width == SimdWidth::w8);
+        for (AccelKind accel : {AccelKind::kdtree, AccelKind::octree})
+            CHECK(incoherent_traversal(accel, SimdWidth::w16, 1000000).width == SimdWidth::w16);
+    }
+}
