@@ -36,11 +36,11 @@ inline std::string embree_occluded_name(int packet_width) { return "rtcOccluded"
 /// for simdN (one ray against one ray, packets against packets of the same width).
 inline std::string embree_counterpart(Traversal traversal) { return embree_call_name(rays_per_call(traversal)); }
 
-#if TRIDENT_HAVE_EMBREE
-
 /// How every Embree scene is built and traced, stated in every output beside its figures.
 inline constexpr const char* kEmbreeSettings =
     "RTC_BUILD_QUALITY_HIGH, default scene flags, coherent intersect context";
+
+#if TRIDENT_HAVE_EMBREE
 
 /// An Embree device with a fixed thread count ("threads=N") that counts the bytes it holds.
 class EmbreeDevice {

@@ -28,16 +28,16 @@ struct Lanes<xsimd::batch<float, Arch>> {
     // and _mm512_max_ps (their _mm512_undefined_ps source), so AVX-512 uses the zero-masked forms
     // with every lane kept, which are the same instructions.
     static Float min(const Float& a, const Float& b) {
-        if constexpr (simd::kHasMaskRegisters<Arch>)
-            return _mm512_maskz_min_ps(__mmask16(0xFFFF), a, b);
-        else
-            return xsimd::min(a, b);
+#if XSIMD_WITH_AVX512F
+        if constexpr (simd::kHasMaskRegisters<Arch>) return _mm512_maskz_min_ps(__mmask16(0xFFFF), a, b);
+#endif
+        return xsimd::min(a, b);
     }
     static Float max(const Float& a, const Float& b) {
-        if constexpr (simd::kHasMaskRegisters<Arch>)
-            return _mm512_maskz_max_ps(__mmask16(0xFFFF), a, b);
-        else
-            return xsimd::max(a, b);
+#if XSIMD_WITH_AVX512F
+        if constexpr (simd::kHasMaskRegisters<Arch>) return _mm512_maskz_max_ps(__mmask16(0xFFFF), a, b);
+#endif
+        return xsimd::max(a, b);
     }
     static bool any(const Mask& mask) { return xsimd::any(mask); }
     static bool none(const Mask& mask) { return !xsimd::any(mask); }
