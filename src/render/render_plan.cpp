@@ -53,20 +53,17 @@ PointLight default_light(const Aabb& box) {
 }
 
 StreamTraversal incoherent_traversal(AccelKind accel, SimdWidth requested, std::size_t triangles) {
-    // Above these sizes, octant packets narrower than 16 lanes lost to single rays (render_plan.h).
-    constexpr std::size_t kOctreeNarrowPacketTriangles = 100000, kKdNarrowPacketTriangles = 300000;
+    // Above this size, octree octant packets narrower than 16 lanes lost to single rays (render_plan.h).
+    constexpr std::size_t kOctreeNarrowPacketTriangles = 100000;
     if (requested == SimdWidth::scalar) return {};
-    const bool narrow = requested != SimdWidth::w16;
     switch (accel) {
         case AccelKind::bvh:
             return {requested == SimdWidth::w16 && is_runnable(SimdWidth::w8) ? SimdWidth::w8 : requested,
                     PacketGrouping::by_octant};
         case AccelKind::octree:
-            if (narrow && triangles >= kOctreeNarrowPacketTriangles) return {};
+            if (requested != SimdWidth::w16 && triangles >= kOctreeNarrowPacketTriangles) return {};
             break;
         case AccelKind::kdtree:
-            if (narrow && triangles >= kKdNarrowPacketTriangles) return {};
-            break;
         case AccelKind::brute:
             break;
     }

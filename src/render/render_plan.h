@@ -69,11 +69,11 @@ PointLight default_light(const Aabb& box);
 
 /// Cosine-distributed rays are incoherent. Packets regrouped by direction octant against single
 /// rays, measured per structure (bench/README.md, "Diffuse rays"), this is the winner: the BVH
-/// takes octant packets of at most 8 lanes (16 lost on the larger scenes); the octree and the
-/// KD-tree take 16-lane octant packets always (octree 1.01-2.7x single rays on the study's
-/// scenes, measured twice) and narrower ones only under a size: 100k triangles for the octree (4
-/// and 8 lanes lost by up to a third above), 300k for the KD-tree (8 lanes: 0.79-0.91x single rays
-/// on Room, Dragon, Gallery and Buddha, 1.04-1.76x on the smaller four). Any choice gives the same
+/// takes octant packets of at most 8 lanes (16 lost on the larger scenes); the KD-tree octant
+/// packets of any width (8 lanes: medians of three runs 0.91-1.05x single rays on Room, Dragon,
+/// Gallery and Buddha, runs disagreeing by up to 30%; 1.2-2.2x on the smaller scenes); the octree
+/// 16-lane octant packets always (1.0-2.7x single rays on the study's scenes) and narrower ones
+/// only under 100k triangles (4 and 8 lanes lost by up to 15% above). Any choice gives the same
 /// answers, bit for bit.
 StreamTraversal incoherent_traversal(AccelKind accel, SimdWidth requested, std::size_t triangles);
 
