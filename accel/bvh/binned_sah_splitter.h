@@ -46,8 +46,8 @@ public:
     /// boundary. Where centroids cluster far closer than a bin's width (small objects in a large
     /// room), bins alone cannot cut around the cluster: on Room that kept the binned tree 9% above
     /// the full sweep's SAH even with 256 bins a node; refining brings it within 2%, for one more
-    /// pass over one axis. Refining larger nodes gained nothing on any scene measured, and their
-    /// pass streams from memory.
+    /// pass over one axis. Refining larger nodes too gained under 0.4% SAH on the study's scenes,
+    /// and their pass streams from memory.
     static constexpr std::uint32_t kRefineMin = 1024, kRefineEnd = 65536;
     /// Fine bins per bin when a split is refined.
     static constexpr int kFineBinsPerBin = 16;
