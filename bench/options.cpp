@@ -248,7 +248,7 @@ void add_options(CLI::App& app, Arguments& args) {
         ->delimiter(',');
     app.add_option("--sweep", args.sweep,
                    "sweep one build parameter: octree-depth, bvh-buckets, bvh-cost, kd-cost, kd-empty-bonus, "
-                   "kd-perfect-splits");
+                   "kd-perfect-splits, kd-depth");
     app.add_option("--csv", args.csv, "write every configuration as CSV");
     app.add_option("--json", args.json, "write machine info and every configuration as JSON (bench/plot.py reads it)");
     app.add_option("--markdown", args.markdown, "write the tables as Markdown (for bench/RESULTS.md)");

@@ -29,6 +29,9 @@ void set_kdtree_cost_ratio(AccelOptions& options, double value) {
 
 void set_kdtree_empty_bonus(AccelOptions& options, double value) { options.kdtree.empty_bonus = float(value); }
 
+/// Levels added to pbrt's depth limit, round(8 + 1.3 log2 N) (the study's).
+void set_kdtree_depth_offset(AccelOptions& options, double value) { options.kdtree.depth_offset = int(value); }
+
 /// Havran's perfect splits off (0, the default) or on (1).
 void set_kdtree_perfect_splits(AccelOptions& options, double value) { options.kdtree.perfect_splits = value != 0.0; }
 
@@ -54,6 +57,11 @@ std::span<const SweepSpec> sweep_specs() {
          {0.0, 0.2, 0.4, 0.6, 0.8, 0.9},
          set_kdtree_empty_bonus},
         {"kd-perfect-splits", AccelKind::kdtree, "perfect_splits", {0, 1}, set_kdtree_perfect_splits},
+        {"kd-depth",
+         AccelKind::kdtree,
+         "levels over round(8 + 1.3 log2 N)",
+         {-4, -2, 0, 2, 4, 6},
+         set_kdtree_depth_offset},
     };
     return specs;
 }

@@ -16,6 +16,9 @@ void KdTreeOptions::validate() const {
     if (!(empty_bonus >= 0.0f && empty_bonus < 1.0f)) fail("empty_bonus must be in [0, 1)");
     if (max_depth >= kKdMaxDepth)
         fail("max_depth must be below " + std::to_string(kKdMaxDepth) + " (the traversal stack)");
+    if (depth_offset <= -kKdMaxDepth || depth_offset >= kKdMaxDepth)
+        fail("depth_offset must lie strictly between -" + std::to_string(kKdMaxDepth) + " and " +
+             std::to_string(kKdMaxDepth));
     if (max_bad_refines < 1) fail("max_bad_refines must be >= 1");
     if (leaf_triangles < 1) fail("leaf_triangles must be >= 1");
     if (parallel_triangles < 2) fail("parallel_triangles must be >= 2");
@@ -24,7 +27,7 @@ void KdTreeOptions::validate() const {
 int KdTreeOptions::depth_limit(std::size_t n) const {
     if (max_depth >= 0) return max_depth;
     const double pbrt = 8.0 + 1.3 * std::log2(double(std::max<std::size_t>(n, 1)));
-    return std::min(int(std::lround(pbrt)), kKdMaxDepth - 1);
+    return std::clamp(int(std::lround(pbrt)) + depth_offset, 0, kKdMaxDepth - 1);
 }
 
 }  // namespace trident

@@ -10,8 +10,12 @@ struct KdTreeOptions {
     float traversal_cost = 1.0f;
     /// A split with an empty side costs (1 - empty_bonus) times as much (Wald and Havran 2006).
     float empty_bonus = 0.5f;
-    /// Deepest leaf; negative means round(8 + 1.3 log2(N)) (pbrt), capped at kKdMaxDepth - 1.
+    /// Deepest leaf; negative means round(8 + 1.3 log2(N)) (pbrt) plus depth_offset, kept within
+    /// 0..kKdMaxDepth - 1.
     int max_depth = -1;
+    /// Levels added to pbrt's formula (negative: fewer). Not the study's: the bench's kd-depth
+    /// sweep uses it to show where that formula stops the tree on dense scans.
+    int depth_offset = 0;
     /// Consecutive splits costing more than a leaf before the node becomes one anyway (pbrt).
     int max_bad_refines = 3;
     /// A node with at most this many triangles becomes a leaf.

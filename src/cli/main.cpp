@@ -11,6 +11,7 @@
 #include <string>
 
 #include "accel/any_accel.h"
+#include "accel/kdtree/kd_node.h"
 #include "cli/stress_command.h"
 #include "camera/camera.h"
 #include "render/heat_map.h"
@@ -124,6 +125,11 @@ void add_common_options(CLI::App& command, CommonOptions& common, bool with_acce
         // Havran's perfect splits, off by default: kept selectable to measure what clipping buys.
         command.add_flag("--kd-perfect-splits", common.accel_options.kdtree.perfect_splits,
                          "KD-tree: clip triangles straddling a split plane to each child's cell (Havran)");
+        // pbrt's depth limit stops the tree on dense scans (bench/RESULTS.md, the kd-depth sweep).
+        command
+            .add_option("--kd-depth-offset", common.accel_options.kdtree.depth_offset,
+                        "KD-tree: levels added to the depth limit round(8 + 1.3 log2 N) (default 0, the study's)")
+            ->check(CLI::Range(1 - kKdMaxDepth, kKdMaxDepth - 1));
     }
     command.add_option("--threads", common.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096));
 }

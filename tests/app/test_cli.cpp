@@ -47,7 +47,8 @@ TEST_CASE("bad options and bad input give one line and a non-zero exit") {
           "render teapot --mode ao --ao-samples 0", "render teapot --mode heat --heat leaves",
           "render teapot --slabs loose", "stress --slabs loose", "stress --triangle-test exact",
           "stress --only no_such_case", "stress --rays 0", "stress --simd 3",
-          "info teapot --accel octree --octree-overlap sphere", "info teapot --bvh-builder greedy"}) {
+          "info teapot --accel octree --octree-overlap sphere", "info teapot --bvh-builder greedy",
+          "info teapot --accel kdtree --kd-depth-offset 64"}) {
         CAPTURE(args);
         const Run run = run_trident(args);
         CHECK(run.exit_code != 0);
@@ -71,6 +72,19 @@ TEST_CASE("render writes a PNG and a hit buffer of the requested size") {
     for (auto t : hits.triangle) hit_count += t >= 0;
     CHECK(hit_count > 64 * 36 / 10);  // the teapot fills a good part of its own camera's view
     CHECK(hit_count < 64 * 36);
+}
+
+TEST_CASE("info --kd-depth-offset moves the KD-tree's depth limit") {
+    // Teapot: 6320 triangles, limit round(8 + 1.3 log2 6320) = 24, which its tree reaches.
+    auto depth = [](const std::string& extra) {
+        const Run run = run_trident("info teapot --accel kdtree" + extra);
+        REQUIRE(run.exit_code == 0);
+        const std::size_t at = run.output.find(", depth ");
+        REQUIRE(at != std::string::npos);
+        return std::stoi(run.output.substr(at + 8));
+    };
+    CHECK(depth("") == 24);
+    CHECK(depth(" --kd-depth-offset -10") == 14);
 }
 
 TEST_CASE("scenes lists the built-in scenes") {

@@ -106,7 +106,7 @@ TEST_CASE("the brute force is refused above 100k triangles, named in the notes, 
 
 TEST_CASE("each sweep runs its structure over every value") {
     for (const std::string name :
-         {"octree-depth", "bvh-buckets", "bvh-cost", "kd-cost", "kd-empty-bonus", "kd-perfect-splits"}) {
+         {"octree-depth", "bvh-buckets", "bvh-cost", "kd-cost", "kd-empty-bonus", "kd-perfect-splits", "kd-depth"}) {
         CAPTURE(name);
         const fs::path json_path = scratch_dir() / ("sweep_" + name + ".json");
         const BenchRun run = run_bench("--sweep " + name +

@@ -274,6 +274,29 @@ TEST_CASE("the depth limit holds, and a limit of zero gives one leaf") {
     CHECK(KdTreeOptions{}.depth_limit(0) == 8);
 }
 
+TEST_CASE("a depth offset moves pbrt's limit, within 0..kKdMaxDepth - 1, and an explicit limit ignores it") {
+    auto offset_by = [](int levels) {
+        KdTreeOptions options;
+        options.depth_offset = levels;
+        return options;
+    };
+    CHECK(offset_by(6).depth_limit(1 << 20) == 40);
+    CHECK(offset_by(-4).depth_limit(1 << 20) == 30);
+    CHECK(offset_by(-20).depth_limit(0) == 0);
+    CHECK(offset_by(kKdMaxDepth - 1).depth_limit(1 << 20) == kKdMaxDepth - 1);
+    KdTreeOptions explicit_limit = offset_by(6);
+    explicit_limit.max_depth = 5;
+    CHECK(explicit_limit.depth_limit(1 << 20) == 5);
+
+    // A soup dense enough that pbrt's limit stops it (round(8 + 1.3 log2 4000) = 24): two levels
+    // fewer give a shallower tree, two more a deeper one.
+    const Mesh mesh = random_soup(4000, 13, 0.2f);
+    const int pbrt_depth = KdTree::build(mesh).stats().max_depth;
+    REQUIRE(pbrt_depth == KdTreeOptions{}.depth_limit(mesh.triangle_count()));
+    CHECK(KdTree::build(mesh, offset_by(-2)).stats().max_depth == pbrt_depth - 2);
+    CHECK(KdTree::build(mesh, offset_by(2)).stats().max_depth > pbrt_depth);
+}
+
 TEST_CASE("triangles with a non-finite corner are left out of the tree") {
     Mesh mesh = random_soup(50, 2, 0.2f);
     const float nan = std::numeric_limits<float>::quiet_NaN();
@@ -330,6 +353,8 @@ TEST_CASE("options out of range are refused, naming the field") {
                          doctest::Contains("empty_bonus"), std::invalid_argument);
     CHECK_THROWS_WITH_AS(KdTree::build(mesh, refused([](KdTreeOptions& o) { o.max_depth = kKdMaxDepth; })),
                          doctest::Contains("max_depth"), std::invalid_argument);
+    CHECK_THROWS_WITH_AS(KdTree::build(mesh, refused([](KdTreeOptions& o) { o.depth_offset = -kKdMaxDepth; })),
+                         doctest::Contains("depth_offset"), std::invalid_argument);
     CHECK_THROWS_WITH_AS(KdTree::build(mesh, refused([](KdTreeOptions& o) { o.leaf_triangles = 0; })),
                          doctest::Contains("leaf_triangles"), std::invalid_argument);
     CHECK_THROWS_WITH_AS(KdTree::build(mesh, refused([](KdTreeOptions& o) { o.max_bad_refines = 0; })),
