@@ -49,6 +49,12 @@ for name in bvh-buckets bvh-cost kd-cost kd-empty-bonus; do
 done
 # Perfect splits on the study's scenes, where large triangles straddle many cells (Room).
 sweep kd-perfect-splits kd-perfect-splits --scenes $scenes --width 960 --height 540
+# The KD-tree's depth limit (pbrt's round(8 + 1.3 log2 N)) on the study's scenes, one thread:
+# whether the limit stops the trees of the million-triangle scans early.
+$bench --sweep kd-depth --scenes $scenes --simd scalar,simd16 --repeats 7 --threads 1 --embree none --quiet \
+    --width 960 --height 540 --json $out/sweep_kd-depth.json --markdown $out/sweep_kd-depth.md \
+    --csv $out/sweep_kd-depth.csv
+$python bench/plot.py $out/sweep_kd-depth.json --out bench/charts/sweeps
 
 # Charts of the main runs last (each run of plot.py rewrites the charts its input has).
 $python bench/plot.py $out/variants.json --out bench/charts/variants
