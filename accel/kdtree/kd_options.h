@@ -13,8 +13,9 @@ struct KdTreeOptions {
     /// Deepest leaf; negative means round(8 + 1.3 log2(N)) (pbrt) plus depth_offset, kept within
     /// 0..kKdMaxDepth - 1.
     int max_depth = -1;
-    /// Levels added to pbrt's formula (negative: fewer). Not the study's: the bench's kd-depth
-    /// sweep uses it to show where that formula stops the tree on dense scans.
+    /// Levels added to pbrt's formula (negative: fewer); 0, the study's, by default. The formula
+    /// ends every tree on the study's scenes, so the bench's kd-depth sweep moves it to measure
+    /// what deeper or shallower trees give (bench/RESULTS.md).
     int depth_offset = 0;
     /// Consecutive splits costing more than a leaf before the node becomes one anyway (pbrt).
     int max_bad_refines = 3;
