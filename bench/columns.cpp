@@ -63,6 +63,7 @@ std::span<const Column> row_columns() {
         {"max_relative_t_difference",
          [](const BenchRow& r) { return error_cell(r, &ErrorFigures::max_relative_t_difference); }},
         {"ratio_to_embree", [](const BenchRow& r) { return optional_cell(r.ratio_to_embree); }},
+        {"speedup_over_one_thread", [](const BenchRow& r) { return optional_cell(r.speedup_over_one_thread); }},
         {"sweep_parameter", [](const BenchRow& r) { return text_cell(r.sweep_parameter); }},
         {"sweep_value", [](const BenchRow& r) { return optional_cell(r.sweep_value); }},
         {"note", [](const BenchRow& r) { return text_cell(r.note); }},

@@ -22,7 +22,7 @@ struct Arguments {
     std::optional<std::string> sweep;
     std::string reference = "auto";
     long long width = 1920, height = 1080, repeats = kRecommendedRepeats;
-    bool quiet = false;
+    bool quiet = false, scaling = false;
 };
 
 [[noreturn]] void refuse(const std::string& message) { throw std::invalid_argument(message); }
@@ -210,6 +210,7 @@ BenchOptions resolve(const Arguments& args, const CLI::App& app) {
     options.json = args.json;
     options.markdown = args.markdown;
     options.quiet = args.quiet;
+    options.scaling = args.scaling;
     return options;
 }
 
@@ -228,8 +229,7 @@ void add_options(CLI::App& app, Arguments& args) {
     app.add_option("--triangle-test", args.triangle_tests,
                    "triangle tests, comma separated: watertight,moller_trumbore (default watertight)")
         ->delimiter(',');
-    app.add_option("--rays", args.rays,
-                   "ray kinds to time, comma separated: primary,shadow,diffuse (default primary)")
+    app.add_option("--rays", args.rays, "ray kinds to time, comma separated: primary,shadow,diffuse (default primary)")
         ->delimiter(',');
     app.add_option("--slabs", args.slabs, "box tests of the traversals, comma separated: robust,fast (default robust)")
         ->delimiter(',');
@@ -253,6 +253,9 @@ void add_options(CLI::App& app, Arguments& args) {
     app.add_option("--json", args.json, "write machine info and every configuration as JSON (bench/plot.py reads it)");
     app.add_option("--markdown", args.markdown, "write the tables as Markdown (for bench/RESULTS.md)");
     app.add_flag("--quiet", args.quiet, "no progress on stderr");
+    app.add_flag("--scaling", args.scaling,
+                 "rows at more than one thread also time each render on one thread right after it; their "
+                 "speed-up over one thread is the median of the pairs' ratios");
 }
 
 }  // namespace

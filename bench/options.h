@@ -53,6 +53,8 @@ struct BenchOptions {
     std::optional<std::filesystem::path> dump_hits, csv, json, markdown;
     const SweepSpec* sweep = nullptr;
     bool quiet = false;
+    /// --scaling: rows at more than one thread also time each render on one thread right after it.
+    bool scaling = false;
     std::string command_line;
 };
 

@@ -27,8 +27,8 @@ struct BenchRow {
     std::size_t triangles = 0;
     double load_ms = 0.0;  // OBJ parsing or built-in generation, once per scene
 
-    std::string structure;  // "bvh", "kdtree", "octree", "brute" or "embree"
-    std::string traversal;  // ours: scalar / simd4 / simd8 / simd16; Embree: rtcIntersect1 / 4 / 8 / 16
+    std::string structure;             // "bvh", "kdtree", "octree", "brute" or "embree"
+    std::string traversal;             // ours: scalar / simd4 / simd8 / simd16; Embree: rtcIntersect1 / 4 / 8 / 16
     std::string triangle_test, slabs;  // ours: watertight / moller_trumbore, robust / fast; Embree: empty
     std::string ray_kind = "primary";  // the ray kind timed: primary, shadow or diffuse (bench/ray_sets.h)
     std::size_t ray_count = 0;         // rays traced per render when not W x H (secondary rays)
@@ -46,6 +46,9 @@ struct BenchRow {
     std::string reference;                  // what the error figures compare with
     std::optional<ErrorFigures> error;      // empty when there was no reference
     std::optional<double> ratio_to_embree;  // our Mrays/s over Embree's at the same rays and threads
+    /// --scaling, rows at more than one thread: the median over the timed runs of (the render's
+    /// time on one thread, taken right after) / (its time on this row's threads).
+    std::optional<double> speedup_over_one_thread;
 
     std::string sweep_parameter;
     std::optional<double> sweep_value;
@@ -70,8 +73,8 @@ struct BenchReport {
     std::uint32_t width = 0, height = 0;
     int repeats = 0;
     std::vector<int> threads;
-    std::string triangle_test;  // the triangle tests measured, comma separated
-    std::string slabs;          // the slab tests measured, comma separated
+    std::string triangle_test;                // the triangle tests measured, comma separated
+    std::string slabs;                        // the slab tests measured, comma separated
     std::string reference;                    // the reference the run chose; rows say where a scene differs
     std::string embree_settings;              // empty without Embree rows
     std::string sweep_name, sweep_parameter;  // empty unless --sweep

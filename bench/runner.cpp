@@ -40,8 +40,7 @@ PerRayCounts count_per_ray(const AnyAccel& accel, const Camera& camera, SimdWidt
     const std::vector<TraversalCounters> counts = width == SimdWidth::scalar
                                                       ? count_primary(accel, camera, test, slabs)
                                                       : count_primary_rays(accel, camera, width, test);
-    const auto [block_w, block_h] =
-        width == SimdWidth::scalar ? std::pair{1u, 1u} : packet_block(lane_count(width));
+    const auto [block_w, block_h] = width == SimdWidth::scalar ? std::pair{1u, 1u} : packet_block(lane_count(width));
     const std::uint32_t w = camera.width(), h = camera.height();
     PerRayCounts sum;
     for (std::uint32_t y = 0; y < h; ++y)
@@ -92,13 +91,13 @@ void fill_ratios_to_embree(std::span<BenchRow> rows) {
         const auto traversal = parse_traversal(row.traversal);
         if (!traversal) continue;
         // Shadow rows compare with rtcOccludedN of the same width, diffuse rows with rtcIntersect1.
-        const std::string counterpart = row.ray_kind == to_string(RayKind::shadow)    ? embree_occluded_name(rays_per_call(*traversal))
+        const std::string counterpart = row.ray_kind == to_string(RayKind::shadow)
+                                            ? embree_occluded_name(rays_per_call(*traversal))
                                         : row.ray_kind == to_string(RayKind::diffuse) ? embree_call_name(1)
-                                                                                  : embree_counterpart(*traversal);
+                                                                                      : embree_counterpart(*traversal);
         for (const BenchRow& embree : rows)
             if (embree.is_embree() && embree.threads == row.threads && embree.traversal == counterpart &&
-                embree.ray_kind == row.ray_kind &&
-                embree.mrays_per_s() > 0)
+                embree.ray_kind == row.ray_kind && embree.mrays_per_s() > 0)
                 row.ratio_to_embree = row.mrays_per_s() / embree.mrays_per_s();
     }
 }
@@ -198,14 +197,31 @@ private:
                                  : fmt::format("{}/{}", run - kWarmupRuns + 1, options_.repeats);
     }
 
+    /// Times the row's renders into row.render_ms. With --scaling, a row at more than one thread
+    /// also times each render again on one thread right after it, into
+    /// row.speedup_over_one_thread: the two times of a pair are seconds apart, so they drift
+    /// together on a shared machine, where the rows at one thread ran minutes earlier.
     template <class TraceOnce>
-    Summary time_renders(const std::string& what, TraceOnce&& trace_once) {
-        return measure_repeated(options_.repeats, [&](int run) {
-            progress_.show(fmt::format("{}: render {}", what, run_label(run)));
+    void time_renders(const std::string& what, BenchRow& row, TraceOnce&& trace_once) {
+        auto timed = [&] {
             const auto start = std::chrono::steady_clock::now();
             trace_once();
             return ms_since(start);
+        };
+        const bool paired = options_.scaling && row.threads > 1;
+        std::vector<double> speedups;
+        row.render_ms = measure_repeated(options_.repeats, [&](int run) {
+            progress_.show(fmt::format("{}: render {}", what, run_label(run)));
+            const double ms = timed();
+            if (paired) {
+                // The most restrictive of nested limits applies: one thread until this one ends.
+                const tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
+                const double one_thread_ms = timed();
+                if (run >= kWarmupRuns) speedups.push_back(one_thread_ms / ms);
+            }
+            return ms;
         });
+        if (paired) row.speedup_over_one_thread = summarize(std::move(speedups)).median;
     }
 
     /// The error against the reference, the hit buffer dump, and the row into the report.
@@ -233,8 +249,8 @@ private:
             if (!asks(RayKind::primary)) break;
             BenchRow row = start_row(run, kEmbreeStructure, embree_call_name(width));
             row.build_ms = build;
-            row.render_ms = time_renders(fmt::format("{} {}", what, row.traversal),
-                                         [&] { scene->trace(run.camera, width, hits_); });
+            time_renders(fmt::format("{} {}", what, row.traversal), row,
+                         [&] { scene->trace(run.camera, width, hits_); });
             row.bytes = scene->bytes();
             row.note = kEmbreeSettings;
             finish_row(run, std::move(row), fmt::format("embree.{}", embree_call_name(width)));
@@ -244,16 +260,16 @@ private:
             BenchRow row = start_row(run, kEmbreeStructure, embree_occluded_name(width));
             row.build_ms = build;
             occluded_.resize(ray_sets_.shadow.rays.size());
-            row.render_ms = time_renders(fmt::format("{} {} shadow", what, row.traversal),
-                                         [&] { scene->occluded(ray_sets_.shadow.rays, width, occluded_); });
+            time_renders(fmt::format("{} {} shadow", what, row.traversal), row,
+                         [&] { scene->occluded(ray_sets_.shadow.rays, width, occluded_); });
             finish_secondary_row(std::move(row), RayKind::shadow, scene->bytes());
         }
         if (asks(RayKind::diffuse)) {  // diffuse rays: rtcIntersect1
             BenchRow row = start_row(run, kEmbreeStructure, embree_call_name(1));
             row.build_ms = build;
             secondary_hits_.resize(ray_sets_.diffuse.rays.size());
-            row.render_ms = time_renders(fmt::format("{} {} diffuse", what, row.traversal),
-                                         [&] { scene->intersect(ray_sets_.diffuse.rays, secondary_hits_); });
+            time_renders(fmt::format("{} {} diffuse", what, row.traversal), row,
+                         [&] { scene->intersect(ray_sets_.diffuse.rays, secondary_hits_); });
             finish_secondary_row(std::move(row), RayKind::diffuse, scene->bytes());
         }
 #endif
@@ -288,9 +304,8 @@ private:
             row.build_ms = build;
             occluded_.resize(ray_sets_.shadow.rays.size());
             const StreamTraversal shadow{width, PacketGrouping::in_order};
-            row.render_ms = time_renders(fmt::format("{} {} shadow", what, row.traversal), [&] {
-                occlude_stream_parallel(accel, ray_sets_.shadow.rays, occluded_, shadow);
-            });
+            time_renders(fmt::format("{} {} shadow", what, row.traversal), row,
+                         [&] { occlude_stream_parallel(accel, ray_sets_.shadow.rays, occluded_, shadow); });
             finish_secondary_row(std::move(row), RayKind::shadow, accel.stats().bytes);
         }
         if (asks(RayKind::diffuse)) {
@@ -300,9 +315,8 @@ private:
             // Each row times exactly its traversal; the renderer's pick per structure is incoherent_traversal().
             const StreamTraversal diffuse{width, PacketGrouping::by_octant};
             if (width != SimdWidth::scalar) row.note = fmt::format("packets {}", to_string(diffuse.grouping));
-            row.render_ms = time_renders(fmt::format("{} {} diffuse", what, row.traversal), [&] {
-                intersect_stream_parallel(accel, ray_sets_.diffuse.rays, secondary_hits_, diffuse);
-            });
+            time_renders(fmt::format("{} {} diffuse", what, row.traversal), row,
+                         [&] { intersect_stream_parallel(accel, ray_sets_.diffuse.rays, secondary_hits_, diffuse); });
             finish_secondary_row(std::move(row), RayKind::diffuse, accel.stats().bytes);
         }
     }
@@ -357,9 +371,8 @@ private:
             default_variant ? what_structure
                             : fmt::format("{} ({}, {} slabs)", what_structure, to_string(test), to_string(slabs));
         row.build_ms = build;
-        row.render_ms = time_renders(fmt::format("{} {}", what, row.traversal), [&] {
-            trace_primary(accel, run.camera, hits_, test, simd_width(traversal), slabs);
-        });
+        time_renders(fmt::format("{} {}", what, row.traversal), row,
+                     [&] { trace_primary(accel, run.camera, hits_, test, simd_width(traversal), slabs); });
         row.nodes = stats.nodes;
         row.leaves = stats.leaves;
         row.max_depth = stats.max_depth;
@@ -396,10 +409,10 @@ private:
     std::vector<SceneChoice> scenes_;
     Progress progress_;
     BenchReport report_;
-    std::vector<Hit> hits_;  // one image of hits, reused by every trace
-    SceneRaySets ray_sets_;                 // the scene's shadow and diffuse rays (--rays)
-    std::vector<std::uint8_t> occluded_;    // shadow results, reused
-    std::vector<Hit> secondary_hits_;       // diffuse results, reused
+    std::vector<Hit> hits_;               // one image of hits, reused by every trace
+    SceneRaySets ray_sets_;               // the scene's shadow and diffuse rays (--rays)
+    std::vector<std::uint8_t> occluded_;  // shadow results, reused
+    std::vector<Hit> secondary_hits_;     // diffuse results, reused
 };
 
 }  // namespace

@@ -175,6 +175,18 @@ def study(report, study_table_path):
             body.append(cells)
         out.append(table(["scene"] + [NAMES[s] for s in STRUCTURES] + ["Embree rtcIntersect1"], body))
 
+    if any(r.get("speedup_over_one_thread") is not None for r in rows.rows):
+        out.append("\n### {} threads over one, each render timed again on one thread right after it "
+                   "(--scaling): median of the pairs, scalar\n".format(tn))
+        body = []
+        for scene in rows.scenes:
+            cells = [scene]
+            for s in STRUCTURES + ("embree",):
+                traversal = "rtcIntersect1" if s == "embree" else "scalar"
+                cells.append(fmt(rows.value("speedup_over_one_thread", scene, s, traversal, tn)))
+            body.append(cells)
+        out.append(table(["scene"] + [NAMES[s] for s in STRUCTURES] + ["Embree rtcIntersect1"], body))
+
     if any(r["structure"] == "embree" for r in rows.rows):
         out.append("\n### Ours over Embree on the same rays: BVH scalar / rtcIntersect1, BVH simdN / rtcIntersectN\n")
         body = []

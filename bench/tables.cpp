@@ -90,7 +90,8 @@ std::vector<TableKey> table_keys(const BenchReport& report) {
     std::vector<TableKey> keys;
     for (const BenchRow& row : report.rows) {
         if (row.is_embree()) continue;
-        const TableKey key{row.scene, row.triangles, row.threads, row.traversal, row.triangle_test, row.slabs, row.ray_kind};
+        const TableKey key{row.scene,         row.triangles, row.threads, row.traversal,
+                           row.triangle_test, row.slabs,     row.ray_kind};
         if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
     }
     return keys;
@@ -215,6 +216,9 @@ TextTable configurations_table(const BenchReport& report) {
     table.header.insert(table.header.end(), {"build ms", "build range", "render ms", "render range", "Mrays/s", "nodes",
                                              "leaves", "depth", "SAH", "MiB", "B/tri", "nodes/ray", "tris/ray",
                                              "hit/miss %", "tri %", "max rel dt", "x Embree"});
+    const bool scaling = std::any_of(report.rows.begin(), report.rows.end(),
+                                     [](const BenchRow& r) { return r.speedup_over_one_thread.has_value(); });
+    if (scaling) table.header.push_back("x 1 thread");
     auto count = [](const std::optional<std::size_t>& n) { return n ? fmt::format("{}", *n) : std::string(kNone); };
     for (const BenchRow& r : report.rows) {
         std::vector<std::string> cells = {r.scene,
@@ -234,12 +238,17 @@ TextTable configurations_table(const BenchReport& report) {
              figure(mebibytes(r)), figure(r.bytes_per_triangle()), figure(r.nodes_per_ray), figure(r.triangles_per_ray),
              r.error ? percent(r.error->hit_miss_share) : kNone, r.error ? percent(r.error->triangle_share) : kNone,
              r.error ? figure(r.error->max_relative_t_difference) : kNone, figure(r.ratio_to_embree)});
+        if (scaling) cells.push_back(figure(r.speedup_over_one_thread));
         table.rows.push_back(std::move(cells));
     }
     table.footnotes.push_back(
         fmt::format("Errors against {}; max rel dt is the largest relative difference in hit "
                     "distance among rays that both hit.",
                     report.reference));
+    if (scaling)
+        table.footnotes.push_back(
+            "x 1 thread (--scaling): each timed render was run again on one thread right after it; the median "
+            "of the pairs' time ratios.");
     return table;
 }
 

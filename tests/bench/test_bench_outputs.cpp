@@ -57,6 +57,7 @@ const std::vector<std::string> kColumns = {"scene",
                                            "triangle_share",
                                            "max_relative_t_difference",
                                            "ratio_to_embree",
+                                           "speedup_over_one_thread",
                                            "sweep_parameter",
                                            "sweep_value",
                                            "note"};
@@ -146,6 +147,7 @@ TEST_CASE("a run writes JSON with machine info and one row per configuration car
         CHECK(row.at("mrays_per_s").get<double>() ==
               doctest::Approx(32.0 * 18.0 / row.at("render_ms").get<double>() / 1000.0));
         CHECK(row.at("reference") == json.at("reference"));
+        CHECK(row.at("speedup_over_one_thread").is_null());  // without --scaling
     }
     for (const auto& row : brute) {
         CHECK(row.at("scene") == "teapot");
@@ -155,6 +157,30 @@ TEST_CASE("a run writes JSON with machine info and one row per configuration car
         CHECK(row.at("bytes").get<double>() > 0);
         CHECK(row.at("triangles_per_ray").get<double>() > 0);
     }
+}
+
+TEST_CASE("--scaling times each render of a row at more than one thread again on one thread") {
+    const fs::path json_path = scratch_dir() / "scaling.json";
+    const BenchRun run =
+        run_bench(kTiny + "--accel bvh --simd scalar --threads 1,2 --scaling --json " + json_path.string());
+    INFO(run.err);
+    REQUIRE(run.exit_code == 0);
+    const auto json = nlohmann::json::parse(trident::testing::read_text(json_path));
+    std::size_t paired = 0;
+    for (const auto& row : json.at("rows")) {
+        CAPTURE(row.dump());
+        const auto& speedup = row.at("speedup_over_one_thread");
+        if (row.at("threads") == 1) {
+            CHECK(speedup.is_null());  // nothing to pair with
+        } else {
+            REQUIRE(speedup.is_number());
+            CHECK(speedup.get<double>() > 0.0);
+            CHECK(std::isfinite(speedup.get<double>()));
+            ++paired;
+        }
+    }
+    CHECK(paired >= 1);  // our BVH at 2 threads, and Embree's rows where it is built
+    CHECK(run.out.find("x 1 thread") != std::string::npos);
 }
 
 TEST_CASE("the CSV has the column header and as many fields on every row") {
