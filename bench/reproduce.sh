@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Re-measures every table and chart of bench/RESULTS.md on this machine, in order (about 50
+# Re-measures every table and chart of bench/RESULTS.md on this machine, in order (about 55
 # minutes on 2 cores). Run from the repository root after `bash run.sh test` (or any Release
 # build in build/), with ../shared beside the repository and nothing else running. The summary
 # tables of RESULTS.md are then printed from the JSON written here by bench/summarize.py.
@@ -13,6 +13,10 @@ mkdir -p "$out" bench/charts
 # Study Table 2: every structure, scalar and each packet width, 1 and 2 threads, Embree beside.
 $bench --scenes $scenes --simd scalar,simd4,simd8,simd16 --threads 1,2 --embree 1,4,8,16 \
     --json $out/study.json --markdown $out/study.md --csv $out/study.csv
+
+# Two threads over one from paired runs: each 2-thread render timed again on one thread right after.
+$bench --scenes $scenes --accel bvh,kdtree,octree --simd scalar --threads 2 --scaling --embree 1 \
+    --json $out/scaling.json --markdown $out/scaling.md --csv $out/scaling.csv
 
 # Shadow and diffuse rays beside primary (issue 9), 2 threads.
 $bench --scenes $scenes --rays primary,shadow,diffuse --simd scalar,simd8,simd16 --threads 2 --embree 1,8,16 \
