@@ -173,6 +173,20 @@ float bin_position(const PrimitiveRef& ref, float origin, float scale) {
     return ((ref.lo[Axis] + ref.hi[Axis]) * 0.5f - origin) * scale;
 }
 
+/// Returns f.template operator()<Axis>() for Axis = axis (0, 1 or 2): the per-axis loops take the
+/// axis as a template parameter so that coordinates load from fixed offsets.
+template <class F>
+decltype(auto) on_axis(int axis, F&& f) {
+    switch (axis) {
+        case 0:
+            return f.template operator()<0>();
+        case 1:
+            return f.template operator()<1>();
+        default:
+            return f.template operator()<2>();
+    }
+}
+
 /// Partitions refs [begin, end) in place: those whose bin position on Axis goes_left(position)
 /// accepts to the front. Returns the end of the left ones. Without branches (a data-dependent
 /// branch would mispredict half the time): each reference is swapped with the first right one
@@ -312,11 +326,10 @@ void refine_split(std::span<const PrimitiveRef> refs, const BuildRange& range, c
     const int axis = best.axis, first_bin = best.last_left_bin;
     if (first_bin + 1 >= grid.count) return;
     FineBins fine;
-    const auto fill = [&]<int Axis>() {
+    on_axis(axis, [&]<int Axis>() {
         fill_fine_bins<Axis>(refs.data(), range.begin, range.end, mapping.origin[Axis], mapping.scale[Axis], first_bin,
                              grid.count - 1, fine);
-    };
-    axis == 0 ? fill.template operator()<0>() : axis == 1 ? fill.template operator()<1>() : fill.template operator()<2>();
+    });
 
     // What lies outside the two bins stays on its side whatever the fine boundary.
     BinBox below, above;
@@ -433,26 +446,21 @@ ChildRanges BinnedSahSplitter::partition(const BuildRange& range, const Split& s
     // position >= 0 that centroids at or beyond the origin have, that is position < bin + 1.
     // A refined split also takes the fine bins up to fine_last_left of the two bins from
     // last_left_bin on: a fine bin is int((position - last_left_bin) * kFineBinsPerBin), as
-    // fill_fine_bins computes it.
+    // fill_fine_bins computes it, so the test is (position - last_left_bin) * kFineBinsPerBin <
+    // fine_last_left + 1. It also sends left every position below last_left_bin (a negative
+    // difference) and right every one past the two bins (fine_last_left + 1 < 2 * kFineBinsPerBin).
     const float left_limit = float(split.last_left_bin + 1), first_fine = float(split.last_left_bin);
     const float fine_limit = float(split.fine_last_left + 1), fine_scale = float(kFineBinsPerBin);
     SideCentroidBounds centroids;
-    const auto partition_on = [&]<int Axis>() {
+    const std::uint32_t left_end = on_axis(axis, [&]<int Axis>() {
         if (split.refined)
             return partition_by_position<Axis>(
                 refs_.data(), range.begin, range.end, mapping.origin[Axis], mapping.scale[Axis],
-                [&](float position) {
-                    // | rather than ||: both compares, no branch on the data.
-                    return (position < first_fine) | ((position - first_fine) * fine_scale < fine_limit);
-                },
-                centroids);
-        return partition_by_position<Axis>(refs_.data(), range.begin, range.end, mapping.origin[Axis],
-                                           mapping.scale[Axis], [&](float position) { return position < left_limit; },
-                                           centroids);
-    };
-    const std::uint32_t left_end = axis == 0   ? partition_on.template operator()<0>()
-                                   : axis == 1 ? partition_on.template operator()<1>()
-                                               : partition_on.template operator()<2>();
+                [&](float position) { return (position - first_fine) * fine_scale < fine_limit; }, centroids);
+        return partition_by_position<Axis>(
+            refs_.data(), range.begin, range.end, mapping.origin[Axis], mapping.scale[Axis],
+            [&](float position) { return position < left_limit; }, centroids);
+    });
     assert(left_end - range.begin == split.left_count);
     return {{range.begin, left_end, split.left_bounds, centroids.bounds(0)},
             {left_end, range.end, split.right_bounds, centroids.bounds(1)},
