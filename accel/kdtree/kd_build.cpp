@@ -206,27 +206,30 @@ void filter_events(std::span<const Event> events, std::span<const Destination> d
 class SahBuilder {
 public:
     SahBuilder(std::span<const Triangle> triangles, const KdTreeOptions& options)
-        : triangles_(triangles), options_(options) {}
+        : file_triangles_(triangles), options_(options) {}
 
     KdBuildResult run() {
         KdBuildResult result;
         ThreadScratch& scratch = scratch_.local();
-        const NodeWork root = make_root(scratch, result.bounds);
+        const NodeWork root = make_root(scratch, result.bounds, result.triangle_ids);
         if (root.size() == 0) return result;
         max_depth_ = options_.depth_limit(root.size());
         Subtree tree;
         build_subtree(root, tree, 0, 0, scratch);
         result.nodes.push_back(kPlaceholder);
         emit(tree, 0, result);
+        result.triangles = std::move(triangles_);
         return result;
     }
 
 private:
-    NodeWork make_root(ThreadScratch& scratch, Aabb& bounds) {
-        bounds_.resize(triangles_.size());
+    /// The root's work, with the triangles with finite corners put in Morton order into
+    /// triangles_ and bounds_ (`order` maps each position there to its file index).
+    NodeWork make_root(ThreadScratch& scratch, Aabb& bounds, std::vector<TriangleId>& order) {
+        bounds_.resize(file_triangles_.size());
         std::size_t finite = 0;
-        for (std::size_t i = 0; i < triangles_.size(); ++i) {
-            const Triangle& t = triangles_[i];
+        for (std::size_t i = 0; i < file_triangles_.size(); ++i) {
+            const Triangle& t = file_triangles_[i];
             bounds_[i] = t.bounds();
             if (is_finite(t.a) && is_finite(t.b) && is_finite(t.c)) {
                 bounds.extend(bounds_[i]);
@@ -239,25 +242,35 @@ private:
         NodeWork root{
             bounds, scratch.kept.allocate<std::uint32_t>(finite), scratch.kept.allocate<std::uint8_t>(finite), {}};
         const ScratchArena::Mark temp_mark = scratch.temp.mark();
-        // Local indices in Morton order of the triangles' centres: the splitting passes look up
-        // per-triangle data by the index of each event, and events near in space then touch
-        // memory near in the array. The tree does not depend on this order.
+        // The triangles in Morton order of their centres: the splitting passes look up
+        // per-triangle data by the index of each event, and the traversals read the triangles of
+        // a leaf, and both then touch memory near in the array for triangles near in space. The
+        // scanned meshes' files are far from that order (bench/RESULTS.md measures what it
+        // gives). The tree does not depend on this order.
         const std::span<std::uint64_t> coded = scratch.temp.allocate<std::uint64_t>(finite);
         const Vec3f extent = max(bounds.extent(), Vec3f(std::numeric_limits<float>::min()));
         const Vec3f scale{1023.0f / extent.x, 1023.0f / extent.y, 1023.0f / extent.z};
         std::size_t n = 0;
-        for (std::size_t i = 0; i < triangles_.size(); ++i) {
-            const Triangle& t = triangles_[i];
+        for (std::size_t i = 0; i < file_triangles_.size(); ++i) {
+            const Triangle& t = file_triangles_[i];
             if (!(is_finite(t.a) && is_finite(t.b) && is_finite(t.c))) continue;
             const Vec3f cell = (bounds_[i].center() - bounds.lo) * scale;
             coded[n++] = std::uint64_t(morton_code(cell)) << 32 | i;
         }
         kd::radix_sort(coded, scratch.temp.allocate<std::uint64_t>(n),
                        [](std::uint64_t c) { return std::uint32_t(c >> 32); });
+        order.resize(n);
+        triangles_.resize(n);
+        std::vector<Aabb> ordered_bounds(n);
         for (std::size_t j = 0; j < n; ++j) {
-            root.prims[j] = std::uint32_t(coded[j]);
-            root.flat_axes[j] = flat_axes_of(bounds_[root.prims[j]]);
+            const auto id = std::uint32_t(coded[j]);
+            order[j] = id;
+            triangles_[j] = file_triangles_[id];
+            ordered_bounds[j] = bounds_[id];
+            root.prims[j] = std::uint32_t(j);
+            root.flat_axes[j] = flat_axes_of(ordered_bounds[j]);
         }
+        bounds_ = std::move(ordered_bounds);
         std::array<std::size_t, 3> sizes{};
         for (int axis = 0; axis < 3; ++axis) {
             sizes[axis] = event_count(root.flat_axes, axis);
@@ -612,9 +625,10 @@ private:
         return child;
     }
 
-    std::span<const Triangle> triangles_;
+    std::span<const Triangle> file_triangles_;
+    std::vector<Triangle> triangles_;  // those with finite corners, in Morton order
     const KdTreeOptions& options_;
-    std::vector<Aabb> bounds_;  // per triangle (file order)
+    std::vector<Aabb> bounds_;  // per triangle (file order in make_root, then as triangles_)
     int max_depth_ = 0;
     tbb::enumerable_thread_specific<ThreadScratch> scratch_;
 };

@@ -19,8 +19,12 @@ namespace trident {
 struct KdBuildResult {
     /// Depth-first; nodes[0] is the root; empty when no triangle has finite corners.
     std::vector<KdNode> nodes;
-    /// Every leaf's triangle ids (file order), one run per leaf, ascending within a run.
+    /// Every leaf's triangles as indices into `triangles`, one run per leaf, ascending within a run.
     std::vector<TriangleId> leaf_triangles;
+    /// The triangles with finite corners in the order the builder chose (Morton order of their
+    /// centres, so that triangles near in space are near in memory), and each one's file index.
+    std::vector<Triangle> triangles;
+    std::vector<TriangleId> triangle_ids;
     /// The root cell: the bounds of the triangles with finite corners.
     Aabb bounds;
 };

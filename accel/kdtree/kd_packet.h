@@ -164,7 +164,7 @@ typename RayPacket<Arch>::Mask traverse_kdtree_packet(const KdTreeView& tree, co
                     TriangleHitT<Float> h{Float(0.0f), Float(0.0f), Float(0.0f)};
                     const Mask hit = intersector.intersect(tree.triangles[ids[i]], hits.t, h) & lanes;
                     if (!xsimd::any(hit)) continue;
-                    hits.record(hit, ids[i], h);
+                    hits.record(hit, tree.triangle_ids[ids[i]], h);
                     found = found | hit;
                     if constexpr (Query == KdQuery::any_hit) {
                         lanes = lanes & !hit;

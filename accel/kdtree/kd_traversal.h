@@ -48,8 +48,9 @@ enum class KdQuery { closest_hit, any_hit };
 /// The flattened tree as the traversals read it.
 struct KdTreeView {
     std::span<const KdNode> nodes;               // nodes[0] is the root; empty for an empty tree
-    std::span<const TriangleId> leaf_triangles;  // leaves' runs of triangle ids
-    std::span<const Triangle> triangles;         // corners in file order
+    std::span<const TriangleId> leaf_triangles;  // leaves' runs of indices into `triangles`
+    std::span<const Triangle> triangles;         // corners, in the builder's order
+    std::span<const TriangleId> triangle_ids;    // the file index of each of `triangles`: what hits report
     Aabb bounds;                                 // the root's cell
 };
 
@@ -123,7 +124,7 @@ bool walk_kdtree(const KdTreeView& tree, const Ray& ray, const SlabRay& slab,
             counters.test_triangle();
             TriangleHit h;
             if (intersector.intersect(tree.triangles[ids[i]], best.t, h)) {
-                best = {ids[i], h.t, h.u, h.v};
+                best = {tree.triangle_ids[ids[i]], h.t, h.u, h.v};
                 found = true;
                 if constexpr (Query == KdQuery::any_hit) return true;
             }

@@ -56,17 +56,18 @@ KdTree KdTree::build(const Mesh& mesh, const KdTreeOptions& options) {
     options.validate();
     const auto start = std::chrono::steady_clock::now();
     KdTree out;
-    out.triangles_ = gather_triangles(mesh);
-    KdBuildResult built = build_kdtree(out.triangles_, options);
+    KdBuildResult built = build_kdtree(gather_triangles(mesh), options);
     out.nodes_ = std::move(built.nodes);
     out.leaf_triangles_ = std::move(built.leaf_triangles);
+    out.triangles_ = std::move(built.triangles);
+    out.triangle_ids_ = std::move(built.triangle_ids);
     out.bounds_ = built.bounds;
     out.stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
     out.stats_.structure = "kdtree";
     out.stats_.triangles = mesh.triangle_count();
     out.stats_.bytes = out.nodes_.size() * sizeof(KdNode) + out.leaf_triangles_.size() * sizeof(TriangleId) +
-                       out.triangles_.size() * sizeof(Triangle);
+                       out.triangles_.size() * (sizeof(Triangle) + sizeof(TriangleId));
     describe_tree(out, options, out.stats_);
     return out;
 }

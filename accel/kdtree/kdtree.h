@@ -61,15 +61,17 @@ public:
 
     // The flattened layout, for packet traversals and tests.
     std::span<const KdNode> nodes() const { return nodes_; }
-    std::span<const TriangleId> leaf_triangles() const { return leaf_triangles_; }
-    std::span<const Triangle> triangles() const { return triangles_; }  // file order
+    std::span<const TriangleId> leaf_triangles() const { return leaf_triangles_; }  // indices into triangles()
+    std::span<const Triangle> triangles() const { return triangles_; }  // the builder's order, finite ones only
+    std::span<const TriangleId> triangle_ids() const { return triangle_ids_; }  // file index of each
     const Aabb& bounds() const { return bounds_; }
-    KdTreeView view() const { return {nodes_, leaf_triangles_, triangles_, bounds_}; }
+    KdTreeView view() const { return {nodes_, leaf_triangles_, triangles_, triangle_ids_, bounds_}; }
 
 private:
     std::vector<KdNode> nodes_;
     std::vector<TriangleId> leaf_triangles_;
     std::vector<Triangle> triangles_;
+    std::vector<TriangleId> triangle_ids_;
     Aabb bounds_;
     AccelStats stats_;
 };

@@ -47,9 +47,17 @@ bool overlaps_grown(const Triangle& tri, const Aabb& cell, double margin) {
     return overlaps(tri, (lo + hi) * 0.5, (hi - lo) * 0.5 + Vec3d(margin));
 }
 
+/// The leaf's run as stored: indices into tree.triangles().
+std::span<const TriangleId> leaf_indices(const KdTree& tree, const KdNode& leaf) {
+    return tree.leaf_triangles().subspan(leaf.triangle_offset(), leaf.triangle_count());
+}
+
+/// The leaf's triangles as file indices, ascending.
 std::vector<TriangleId> leaf_run(const KdTree& tree, const KdNode& leaf) {
-    const auto ids = tree.leaf_triangles().subspan(leaf.triangle_offset(), leaf.triangle_count());
-    return {ids.begin(), ids.end()};
+    std::vector<TriangleId> run;
+    for (const TriangleId index : leaf_indices(tree, leaf)) run.push_back(tree.triangle_ids()[index]);
+    std::sort(run.begin(), run.end());
+    return run;
 }
 
 /// The structural promises of the layout: children and runs in range, every node reached once,
@@ -64,10 +72,11 @@ void check_layout(const KdTree& tree, std::size_t triangle_count, int depth_limi
         const KdNode& node = nodes[c.node];
         if (node.is_leaf()) {
             REQUIRE(std::size_t(node.triangle_offset()) + node.triangle_count() <= tree.leaf_triangles().size());
-            const std::vector<TriangleId> run = leaf_run(tree, node);
+            const std::span<const TriangleId> run = leaf_indices(tree, node);
             CHECK(std::is_sorted(run.begin(), run.end()));
             CHECK(std::adjacent_find(run.begin(), run.end()) == run.end());
-            for (const TriangleId id : run) CHECK(id < triangle_count);
+            for (const TriangleId index : run) CHECK(index < tree.triangles().size());
+            for (const TriangleId id : leaf_run(tree, node)) CHECK(id < triangle_count);
         } else {
             CHECK(node.above_child() < nodes.size());
             CHECK(node.split() >= c.cell.lo[node.axis()]);
@@ -304,8 +313,28 @@ TEST_CASE("triangles with a non-finite corner are left out of the tree") {
     mesh.add_triangle(mesh.add_vertex({0, kInfinity, 0}), mesh.add_vertex({1, 0, 0}), mesh.add_vertex({0, 1, 0}));
     const KdTree tree = KdTree::build(mesh);
     CHECK(tree.bounds().hi.x <= 2.0f);
-    for (const TriangleId id : tree.leaf_triangles()) CHECK(id < 50);
-    CHECK(tree.triangles().size() == 52);  // file order kept
+    for (const TriangleId index : tree.leaf_triangles()) CHECK(tree.triangle_ids()[index] < 50);
+    CHECK(tree.triangles().size() == 50);
+    CHECK(tree.triangle_ids().size() == 50);
+}
+
+TEST_CASE("the tree holds each finite triangle once, reordered, with its file index") {
+    Mesh mesh = random_soup(400, 23, 0.1f);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    mesh.add_triangle(mesh.add_vertex({nan, 0, 0}), mesh.add_vertex({1, 0, 0}), mesh.add_vertex({0, 1, 0}));
+    const KdTree tree = KdTree::build(mesh);
+    const std::vector<Triangle> file_order = gather_triangles(mesh);
+    REQUIRE(tree.triangles().size() == 400);
+    REQUIRE(tree.triangle_ids().size() == 400);
+    std::vector<TriangleId> ids(tree.triangle_ids().begin(), tree.triangle_ids().end());
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+        const Triangle& held = tree.triangles()[i];
+        const Triangle& original = file_order[ids[i]];
+        CHECK((held.a == original.a && held.b == original.b && held.c == original.c));
+    }
+    std::sort(ids.begin(), ids.end());
+    for (TriangleId id = 0; id < 400; ++id) CHECK(ids[id] == id);  // a permutation of the finite ones
+    CHECK(!std::is_sorted(tree.triangle_ids().begin(), tree.triangle_ids().end()));  // random soup: reordered
 }
 
 TEST_CASE("statistics describe the tree") {
@@ -331,7 +360,7 @@ TEST_CASE("statistics describe the tree") {
     CHECK(s.empty_leaves == empty);
     CHECK(s.max_leaf_size == largest);
     CHECK(s.mean_leaf_size == doctest::Approx(double(s.references) / double(leaves - empty)));
-    CHECK(s.bytes == s.nodes * 8 + s.references * 4 + 3000 * sizeof(Triangle));
+    CHECK(s.bytes == s.nodes * 8 + s.references * 4 + 3000 * (sizeof(Triangle) + sizeof(TriangleId)));
     // The SAH cost lies between a tree's floor (one traversal step, then at least one triangle
     // test for every ray that hits something) and a single leaf's (every triangle, 80 each).
     CHECK(s.sah_cost > 1.0);
