@@ -216,6 +216,11 @@ public:
         max_depth_ = options_.depth_limit(root.size());
         Subtree tree;
         build_subtree(root, tree, 0, 0, scratch);
+        // Reserved at their final sizes: growing these (tens of MiB) copies and faults them in again.
+        std::array<std::size_t, 2> sizes{1, 0};
+        count_emitted(tree, sizes);
+        result.nodes.reserve(sizes[0]);
+        result.leaf_triangles.reserve(sizes[1]);
         result.nodes.push_back(kPlaceholder);
         emit(tree, 0, result);
         result.triangles = std::move(triangles_);
@@ -226,11 +231,11 @@ private:
     /// The root's work, with the triangles with finite corners put in Morton order into
     /// triangles_ and bounds_ (`order` maps each position there to its file index).
     NodeWork make_root(ThreadScratch& scratch, Aabb& bounds, std::vector<TriangleId>& order) {
-        bounds_.resize(file_triangles_.size());
+        bounds_.reserve(file_triangles_.size());
         std::size_t finite = 0;
         for (std::size_t i = 0; i < file_triangles_.size(); ++i) {
             const Triangle& t = file_triangles_[i];
-            bounds_[i] = t.bounds();
+            bounds_.push_back(t.bounds());
             if (is_finite(t.a) && is_finite(t.b) && is_finite(t.c)) {
                 bounds.extend(bounds_[i]);
                 ++finite;
@@ -259,14 +264,15 @@ private:
         }
         kd::radix_sort(coded, scratch.temp.allocate<std::uint64_t>(n),
                        [](std::uint64_t c) { return std::uint32_t(c >> 32); });
-        order.resize(n);
-        triangles_.resize(n);
-        std::vector<Aabb> ordered_bounds(n);
+        order.reserve(n);
+        triangles_.reserve(n);
+        std::vector<Aabb> ordered_bounds;
+        ordered_bounds.reserve(n);
         for (std::size_t j = 0; j < n; ++j) {
             const auto id = std::uint32_t(coded[j]);
-            order[j] = id;
-            triangles_[j] = file_triangles_[id];
-            ordered_bounds[j] = bounds_[id];
+            order.push_back(id);
+            triangles_.push_back(file_triangles_[id]);
+            ordered_bounds.push_back(bounds_[id]);
             root.prims[j] = std::uint32_t(j);
             root.flat_axes[j] = flat_axes_of(ordered_bounds[j]);
         }
@@ -344,6 +350,17 @@ private:
         out.nodes[slot] = KdNode::leaf(std::uint32_t(node.size()), offset);
         out.leaf_triangles.insert(out.leaf_triangles.end(), node.prims.begin(), node.prims.end());
         if (node.size() > 1) std::sort(out.leaf_triangles.begin() + std::ptrdiff_t(offset), out.leaf_triangles.end());
+    }
+
+    /// Adds the nodes emit() appends for `tree` (all but its root) and its leaf-triangle entries.
+    static void count_emitted(const Subtree& tree, std::array<std::size_t, 2>& sizes) {
+        if (tree.children[0]) {
+            sizes[0] += 2;
+            for (const auto& child : tree.children) count_emitted(*child, sizes);
+            return;
+        }
+        sizes[0] += tree.nodes.size() - 1;
+        sizes[1] += tree.leaf_triangles.size();
     }
 
     /// Writes `tree` into `out` with its root at out.nodes[slot] and its other nodes appended.
