@@ -4,21 +4,12 @@
 // the leaves cost no heap traffic. Blocks are kept for reuse until the arena dies. One arena per
 // thread: a task that runs on a thread while another waits there is nested inside it and
 // releases its memory before returning, so the last-in-first-out order holds.
-//
-// Blocks are 2 MiB aligned and asked for as transparent huge pages: a build writes a hundred MiB
-// or more of fresh event lists, and faulting that in 4 KiB pages cost about a tenth of the
-// Buddha's one-thread build (bench/RESULTS.md).
 #include <algorithm>
 #include <cstddef>
 #include <memory>
-#include <new>
 #include <span>
 #include <type_traits>
 #include <vector>
-
-#ifdef __linux__
-#include <sys/mman.h>
-#endif
 
 namespace trident::kd {
 
@@ -46,26 +37,10 @@ public:
 private:
     static constexpr std::size_t kAlign = 16, kMinBlockBytes = std::size_t(1) << 20;
 
-    struct FreeBlock {
-        void operator()(std::byte* p) const { ::operator delete[](p, std::align_val_t(kHugePage)); }
-    };
     struct Block {
-        std::unique_ptr<std::byte[], FreeBlock> data;
+        std::unique_ptr<std::byte[]> data;
         std::size_t bytes;
     };
-
-    static constexpr std::size_t kHugePage = std::size_t(1) << 21;
-
-    /// `size` rounded up to whole huge pages. Where the kernel gives huge pages only on request
-    /// (transparent_hugepage "madvise"), madvise asks; elsewhere it is a harmless hint.
-    static Block new_block(std::size_t size) {
-        size = (size + kHugePage - 1) & ~(kHugePage - 1);
-        auto* p = static_cast<std::byte*>(::operator new[](size, std::align_val_t(kHugePage)));
-#ifdef __linux__
-        madvise(p, size, MADV_HUGEPAGE);
-#endif
-        return {std::unique_ptr<std::byte[], FreeBlock>(p), size};
-    }
 
     std::byte* allocate_bytes(std::size_t bytes) {
         bytes = (bytes + kAlign - 1) & ~(kAlign - 1);
@@ -85,7 +60,7 @@ private:
         if (current_ >= blocks_.size()) {
             current_ = blocks_.size();
             const std::size_t size = std::max(kMinBlockBytes, 4 * bytes);  // room for what follows
-            blocks_.push_back(new_block(size));
+            blocks_.push_back({std::make_unique_for_overwrite<std::byte[]>(size), size});
         }
         offset_ = bytes;
         return blocks_[current_].data.get();
