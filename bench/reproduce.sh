@@ -14,6 +14,11 @@ mkdir -p "$out" bench/charts
 $bench --scenes $scenes --simd scalar,simd4,simd8,simd16 --threads 1,2 --embree 1,4,8,16 \
     --json $out/study.json --markdown $out/study.md --csv $out/study.csv
 
+# The three structures side by side, scalar and 8 and 16 lanes, 1 and 2 threads, without Embree:
+# the KD-tree's and the Octree's speed relative to the BVH's (issues 4 and 6).
+$bench --scenes $scenes --accel bvh,kdtree,octree --simd scalar,simd8,simd16 --threads 1,2 --embree none \
+    --reference self --json $out/structures.json --markdown $out/structures.md
+
 # Two threads over one from paired runs: each 2-thread render timed again on one thread right after.
 $bench --scenes $scenes --accel bvh,kdtree,octree --simd scalar --threads 2 --scaling --embree 1 \
     --json $out/scaling.json --markdown $out/scaling.md --csv $out/scaling.csv
