@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Re-measures every table and chart of bench/RESULTS.md on this machine, in order (about 55
+# Re-measures every table and chart of bench/RESULTS.md on this machine, in order (about 65
 # minutes on 2 cores). Run from the repository root after `bash run.sh test` (or any Release
 # build in build/), with ../shared beside the repository and nothing else running. The summary
 # tables of RESULTS.md are then printed from the JSON written here by bench/summarize.py.
