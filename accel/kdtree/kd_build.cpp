@@ -231,13 +231,14 @@ private:
     /// The root's work, with the triangles with finite corners put in Morton order into
     /// triangles_ and bounds_ (`order` maps each position there to its file index).
     NodeWork make_root(ThreadScratch& scratch, Aabb& bounds, std::vector<TriangleId>& order) {
-        bounds_.reserve(file_triangles_.size());
+        std::vector<Aabb> file_bounds;
+        file_bounds.reserve(file_triangles_.size());
         std::size_t finite = 0;
         for (std::size_t i = 0; i < file_triangles_.size(); ++i) {
             const Triangle& t = file_triangles_[i];
-            bounds_.push_back(t.bounds());
+            file_bounds.push_back(t.bounds());
             if (is_finite(t.a) && is_finite(t.b) && is_finite(t.c)) {
-                bounds.extend(bounds_[i]);
+                bounds.extend(file_bounds[i]);
                 ++finite;
             }
         }
@@ -259,24 +260,22 @@ private:
         for (std::size_t i = 0; i < file_triangles_.size(); ++i) {
             const Triangle& t = file_triangles_[i];
             if (!(is_finite(t.a) && is_finite(t.b) && is_finite(t.c))) continue;
-            const Vec3f cell = (bounds_[i].center() - bounds.lo) * scale;
+            const Vec3f cell = (file_bounds[i].center() - bounds.lo) * scale;
             coded[n++] = std::uint64_t(morton_code(cell)) << 32 | i;
         }
         kd::radix_sort(coded, scratch.temp.allocate<std::uint64_t>(n),
                        [](std::uint64_t c) { return std::uint32_t(c >> 32); });
         order.reserve(n);
         triangles_.reserve(n);
-        std::vector<Aabb> ordered_bounds;
-        ordered_bounds.reserve(n);
+        bounds_.reserve(n);
         for (std::size_t j = 0; j < n; ++j) {
             const auto id = std::uint32_t(coded[j]);
             order.push_back(id);
             triangles_.push_back(file_triangles_[id]);
-            ordered_bounds.push_back(bounds_[id]);
+            bounds_.push_back(file_bounds[id]);
             root.prims[j] = std::uint32_t(j);
-            root.flat_axes[j] = flat_axes_of(ordered_bounds[j]);
+            root.flat_axes[j] = flat_axes_of(bounds_[j]);
         }
-        bounds_ = std::move(ordered_bounds);
         std::array<std::size_t, 3> sizes{};
         for (int axis = 0; axis < 3; ++axis) {
             sizes[axis] = event_count(root.flat_axes, axis);
@@ -645,7 +644,7 @@ private:
     std::span<const Triangle> file_triangles_;
     std::vector<Triangle> triangles_;  // those with finite corners, in Morton order
     const KdTreeOptions& options_;
-    std::vector<Aabb> bounds_;  // per triangle (file order in make_root, then as triangles_)
+    std::vector<Aabb> bounds_;         // per triangle of triangles_
     int max_depth_ = 0;
     tbb::enumerable_thread_specific<ThreadScratch> scratch_;
 };
