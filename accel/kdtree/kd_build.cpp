@@ -20,6 +20,7 @@
 #include "accel/kdtree/radix_sort.h"
 #include "accel/kdtree/sah_sweep.h"
 #include "accel/kdtree/scratch_arena.h"
+#include "core/morton.h"
 
 namespace trident {
 
@@ -82,18 +83,6 @@ std::uint8_t flat_axes_of(const Aabb& box) {
 }
 
 Aabb intersection(const Aabb& a, const Aabb& b) { return {max(a.lo, b.lo), min(a.hi, b.hi)}; }
-
-/// Interleaves the low 10 bits of three integers given as floats in [0, 1024).
-std::uint32_t morton_code(const Vec3f& cell) {
-    auto spread = [](float value) {
-        std::uint32_t x = std::uint32_t(value) & 0x3FFu;
-        x = (x | x << 16) & 0x030000FFu;
-        x = (x | x << 8) & 0x0300F00Fu;
-        x = (x | x << 4) & 0x030C30C3u;
-        return (x | x << 2) & 0x09249249u;
-    };
-    return spread(cell.x) | spread(cell.y) << 1 | spread(cell.z) << 2;
-}
 
 /// Events on `axis` for each flat-axes entry: 1 where the bounds are flat, 2 elsewhere.
 std::size_t event_count(std::span<const std::uint8_t> flat_axes, int axis) {
@@ -261,7 +250,8 @@ private:
             const Triangle& t = file_triangles_[i];
             if (!(is_finite(t.a) && is_finite(t.b) && is_finite(t.c))) continue;
             const Vec3f cell = (file_bounds[i].center() - bounds.lo) * scale;
-            coded[n++] = std::uint64_t(morton_code(cell)) << 32 | i;
+            const std::uint32_t code = morton_code(std::uint32_t(cell.x), std::uint32_t(cell.y), std::uint32_t(cell.z));
+            coded[n++] = std::uint64_t(code) << 32 | i;
         }
         kd::radix_sort(coded, scratch.temp.allocate<std::uint64_t>(n),
                        [](std::uint64_t c) { return std::uint32_t(c >> 32); });

@@ -5,31 +5,17 @@
 #include <bit>
 #include <utility>
 
+#include "core/morton.h"
+
 namespace trident {
-
-namespace {
-
-/// Spreads the low 10 bits of v so bit i lands on bit 3i.
-std::uint32_t spread_bits(std::uint32_t v) {
-    v &= 0x3FFu;
-    v = (v | (v << 16)) & 0x030000FFu;
-    v = (v | (v << 8)) & 0x0300F00Fu;
-    v = (v | (v << 4)) & 0x030C30C3u;
-    v = (v | (v << 2)) & 0x09249249u;
-    return v;
-}
-
-}  // namespace
 
 std::uint32_t morton_key(const Vec3f& point, const OctreeCube& cube) {
     constexpr float kCells = float(1u << kMortonBitsPerAxis);
     const float scale = cube.size > 0.0f ? kCells / cube.size : 0.0f;
-    std::uint32_t key = 0;
-    for (int axis = 0; axis < 3; ++axis) {
-        const float cell = std::clamp((point[axis] - cube.lo[axis]) * scale, 0.0f, kCells - 1.0f);
-        key |= spread_bits(std::uint32_t(cell)) << axis;
-    }
-    return key;
+    std::uint32_t cell[3];
+    for (int axis = 0; axis < 3; ++axis)
+        cell[axis] = std::uint32_t(std::clamp((point[axis] - cube.lo[axis]) * scale, 0.0f, kCells - 1.0f));
+    return morton_code(cell[0], cell[1], cell[2]);
 }
 
 MortonSorted sort_by_morton_key(std::span<const Triangle> triangles, std::vector<std::uint32_t> indices,
