@@ -3,9 +3,6 @@
 // rays about a normal, with origins pushed off the surface (core/ray_offset.h). Rays come in the
 // order of the primary packets that made the hits (tile by tile, packet block by packet block),
 // so a run of `lanes` consecutive rays starts from neighbouring pixels.
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -14,26 +11,9 @@
 #include "core/mesh.h"
 #include "core/ray.h"
 #include "render/hemisphere_sample.h"
+#include "render/image_tiles.h"
 
 namespace trident {
-
-/// Side of the square image tiles the renderer hands to threads; a multiple of every packet block.
-inline constexpr std::uint32_t kRenderTileSize = 16;
-
-struct ImageTile {
-    std::uint32_t x0, y0, x1, y1;  // [x0, x1) x [y0, y1)
-};
-
-std::size_t tile_count(const Camera& camera);
-ImageTile tile_at(const Camera& camera, std::size_t index);
-/// Runs per_tile(ImageTile) over the image's tiles on oneTBB's threads. A tile's work depends only on
-/// the tile, so results do not change with the thread count or the order tiles run in.
-template <class PerTile>
-void for_each_image_tile(const Camera& camera, PerTile&& per_tile) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tile_count(camera)), [&](const auto& range) {
-        for (std::size_t t = range.begin(); t != range.end(); ++t) per_tile(tile_at(camera, t));
-    });
-}
 
 /// The tile's pixel indices in the order packets of `lanes` rays take them (row order for 1).
 std::vector<std::uint32_t> pixels_in_packet_order(const Camera& camera, const ImageTile& tile, std::size_t lanes);

@@ -1,34 +1,21 @@
 #include "render/trace.h"
 
 #include <fmt/format.h>
-#include <tbb/blocked_range.h>
-#include <tbb/blocked_range2d.h>
-#include <tbb/parallel_for.h>
 
 #include <array>
 #include <stdexcept>
 
+#include "render/image_tiles.h"
 #include "simd/packet.h"
 
 namespace trident {
 namespace {
 
-// Tiles are a multiple of every packet block, so blocks are cut only at the image's edges.
-constexpr std::uint32_t kTileSize = 16;
-
-using Tile = tbb::blocked_range2d<std::uint32_t>;
-
-/// Runs per_tile(tile) over the image's tiles in parallel.
-template <class PerTile>
-void for_each_tile(const Camera& camera, PerTile&& per_tile) {
-    tbb::parallel_for(Tile(0, camera.height(), kTileSize, 0, camera.width(), kTileSize), per_tile);
-}
-
 template <class PerPixel>
 void for_each_pixel_tiled(const Camera& camera, PerPixel&& per_pixel) {
-    for_each_tile(camera, [&](const Tile& tile) {
-        for (std::uint32_t y = tile.rows().begin(); y != tile.rows().end(); ++y)
-            for (std::uint32_t x = tile.cols().begin(); x != tile.cols().end(); ++x)
+    for_each_image_tile(camera, [&](const ImageTile& tile) {
+        for (std::uint32_t y = tile.y0; y != tile.y1; ++y)
+            for (std::uint32_t x = tile.x0; x != tile.x1; ++x)
                 per_pixel(x, y, std::size_t(y) * camera.width() + x);
     });
 }
@@ -47,17 +34,17 @@ constexpr bool can_trace_at() {
 
 /// Primary rays of one tile as packets of the structure's closest-hit packet traversal.
 template <TriangleTest Test, SlabTest Slabs, class Arch, class Structure>
-void trace_tile_packets(const Structure& structure, const Camera& camera, const Tile& tile, std::span<Hit> out) {
+void trace_tile_packets(const Structure& structure, const Camera& camera, const ImageTile& tile, std::span<Hit> out) {
     constexpr std::size_t kLanes = RayPacket<Arch>::width;
     constexpr auto kBlock = packet_block(kLanes);
     std::array<Ray, kLanes> rays;
     std::array<std::size_t, kLanes> pixel;
     std::array<Hit, kLanes> hits;
-    for (std::uint32_t y0 = tile.rows().begin(); y0 < tile.rows().end(); y0 += kBlock.second) {
-        for (std::uint32_t x0 = tile.cols().begin(); x0 < tile.cols().end(); x0 += kBlock.first) {
+    for (std::uint32_t y0 = tile.y0; y0 < tile.y1; y0 += kBlock.second) {
+        for (std::uint32_t x0 = tile.x0; x0 < tile.x1; x0 += kBlock.first) {
             std::size_t lanes = 0;
-            for (std::uint32_t y = y0; y < y0 + kBlock.second && y < tile.rows().end(); ++y)
-                for (std::uint32_t x = x0; x < x0 + kBlock.first && x < tile.cols().end(); ++x) {
+            for (std::uint32_t y = y0; y < y0 + kBlock.second && y < tile.y1; ++y)
+                for (std::uint32_t x = x0; x < x0 + kBlock.first && x < tile.x1; ++x) {
                     rays[lanes] = camera.primary_ray(x, y);
                     pixel[lanes++] = std::size_t(y) * camera.width() + x;
                 }
@@ -96,7 +83,7 @@ void trace_primary(const AnyAccel& accel, const Camera& camera, std::span<Hit> h
                         hits[i] = structure.template intersect<Test, Slabs>(camera.primary_ray(x, y), counters);
                     });
                 } else if constexpr (PacketTraversable<Structure, ArchOf<W>>) {
-                    for_each_tile(camera, [&](const Tile& tile) {
+                    for_each_image_tile(camera, [&](const ImageTile& tile) {
                         trace_tile_packets<Test, Slabs, ArchOf<W>>(structure, camera, tile, hits);
                     });
                 } else {
