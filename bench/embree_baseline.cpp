@@ -12,6 +12,8 @@
 #include <string>
 
 #include "bench/statistics.h"
+#include "render/primary_packets.h"
+#include "simd/mask.h"
 
 namespace trident::bench {
 namespace {
@@ -124,17 +126,40 @@ void trace_single(RTCScene scene, const Camera& camera, std::span<Hit> hits) {
 template <int Width>
 void trace_packets(RTCScene scene, const Camera& camera, std::span<Hit> hits) {
     using P = Packet<Width>;
+    using Batch = xsimd::make_sized_batch_t<float, Width>;  // void where the CPU has no such width
+    const ImageTile image{0, 0, camera.width(), camera.height()};
     for_each_block(camera, P::block_w, P::block_h, [&](std::uint32_t bx, std::uint32_t by) {
         RTCIntersectContext context = coherent_context();
         alignas(64) int valid[Width];
         alignas(64) typename P::RayHit rayhit{};
-        for (int lane = 0; lane < Width; ++lane) {
-            const std::uint32_t x = bx * P::block_w + std::uint32_t(lane) % P::block_w;
-            const std::uint32_t y = by * P::block_h + std::uint32_t(lane) / P::block_w;
-            valid[lane] = x < camera.width() && y < camera.height() ? -1 : 0;
-            rayhit.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
-            if (!valid[lane]) continue;
-            set_lane(rayhit.ray, lane, camera.primary_ray(x, y));
+        if constexpr (!std::is_void_v<Batch>) {
+            // The rays made in SIMD as our packets make them (render/primary_packets.h), the same
+            // rays at the same cost.
+            static_assert(P::block_w == PrimaryBlock<typename Batch::arch_type>::kBlockWidth);
+            const PrimaryBlock<typename Batch::arch_type> block(camera, image, bx * P::block_w, by * P::block_h);
+            block.dir.x.store_aligned(rayhit.ray.dir_x);
+            block.dir.y.store_aligned(rayhit.ray.dir_y);
+            block.dir.z.store_aligned(rayhit.ray.dir_z);
+            Batch(camera.eye().x).store_aligned(rayhit.ray.org_x);
+            Batch(camera.eye().y).store_aligned(rayhit.ray.org_y);
+            Batch(camera.eye().z).store_aligned(rayhit.ray.org_z);
+            Batch(0.0f).store_aligned(rayhit.ray.tnear);
+            Batch(kInfinity).store_aligned(rayhit.ray.tfar);
+            const std::uint32_t active = simd::mask_bits(block.active);
+            for (int lane = 0; lane < Width; ++lane) {
+                valid[lane] = (active >> lane & 1u) ? -1 : 0;
+                rayhit.ray.mask[lane] = ~0u;
+                rayhit.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+            }
+        } else {
+            for (int lane = 0; lane < Width; ++lane) {
+                const std::uint32_t x = bx * P::block_w + std::uint32_t(lane) % P::block_w;
+                const std::uint32_t y = by * P::block_h + std::uint32_t(lane) / P::block_w;
+                valid[lane] = x < camera.width() && y < camera.height() ? -1 : 0;
+                rayhit.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+                if (!valid[lane]) continue;
+                set_lane(rayhit.ray, lane, camera.primary_ray(x, y));
+            }
         }
         P::intersect(valid, scene, &context, &rayhit);
         for (int lane = 0; lane < Width; ++lane) {

@@ -24,9 +24,9 @@ struct Lanes<xsimd::batch<float, Arch>> {
         return xsimd::select(mask, if_true, if_false);
     }
     static Float abs(const Float& x) { return xsimd::abs(x); }
-    // minps/maxps: b when either is NaN. GCC 12 warns -Wmaybe-uninitialized inside _mm512_min_ps
-    // and _mm512_max_ps (their _mm512_undefined_ps source), so AVX-512 uses the zero-masked forms
-    // with every lane kept, which are the same instructions.
+    // minps/maxps: b when either is NaN. GCC 12 warns -Wmaybe-uninitialized inside _mm512_min_ps,
+    // _mm512_max_ps and _mm512_sqrt_ps (their _mm512_undefined_ps source), so AVX-512 uses the
+    // zero-masked forms with every lane kept, which are the same instructions.
     static Float min(const Float& a, const Float& b) {
 #if XSIMD_WITH_AVX512F
         if constexpr (simd::kHasMaskRegisters<Arch>) return _mm512_maskz_min_ps(__mmask16(0xFFFF), a, b);
@@ -38,6 +38,12 @@ struct Lanes<xsimd::batch<float, Arch>> {
         if constexpr (simd::kHasMaskRegisters<Arch>) return _mm512_maskz_max_ps(__mmask16(0xFFFF), a, b);
 #endif
         return xsimd::max(a, b);
+    }
+    static Float sqrt(const Float& x) {
+#if XSIMD_WITH_AVX512F
+        if constexpr (simd::kHasMaskRegisters<Arch>) return _mm512_maskz_sqrt_ps(__mmask16(0xFFFF), x);
+#endif
+        return xsimd::sqrt(x);
     }
     static bool any(const Mask& mask) { return xsimd::any(mask); }
     static bool none(const Mask& mask) { return !xsimd::any(mask); }

@@ -39,6 +39,19 @@ struct RayPacket {
     /// copy the first ray's origin and direction, so they hold no NaN and keep its octant.
     explicit RayPacket(std::span<const Ray> rays) : RayPacket(LaneArrays(rays)) {}
 
+    /// Rays already in lanes: those of `live` from `origins` along `dirs` over [tmins, tmaxs];
+    /// the other lanes become inactive ([+inf, -inf]) and must hold finite origins and directions.
+    RayPacket(const Vec3T<Float>& origins, const Vec3T<Float>& dirs, const Float& tmins, const Float& tmaxs,
+              const Mask& live)
+        : origin(origins),
+          dir(dirs),
+          tmin(xsimd::select(live, tmins, Float(kInfinity))),
+          tmax(xsimd::select(live, tmaxs, Float(-kInfinity))),
+          active(live),
+          slab(origin, dir),
+          dir_negative(slab.inv_dir.x < Float(0.0f), slab.inv_dir.y < Float(0.0f), slab.inv_dir.z < Float(0.0f)),
+          octant(shared_octant(dir_negative, active)) {}
+
     bool shares_octant() const { return octant != kMixedOctant; }
 
 private:
@@ -62,14 +75,9 @@ private:
     static Float load_lanes(const std::array<float, width>& lanes) { return Float::load_unaligned(lanes.data()); }
 
     explicit RayPacket(const LaneArrays& lanes)
-        : origin(load_lanes(lanes.ox), load_lanes(lanes.oy), load_lanes(lanes.oz)),
-          dir(load_lanes(lanes.dx), load_lanes(lanes.dy), load_lanes(lanes.dz)),
-          tmin(load_lanes(lanes.tmin)),
-          tmax(load_lanes(lanes.tmax)),
-          active(Mask::load_unaligned(lanes.live.data())),
-          slab(origin, dir),
-          dir_negative(slab.inv_dir.x < Float(0.0f), slab.inv_dir.y < Float(0.0f), slab.inv_dir.z < Float(0.0f)),
-          octant(shared_octant(dir_negative, active)) {}
+        : RayPacket({load_lanes(lanes.ox), load_lanes(lanes.oy), load_lanes(lanes.oz)},
+                    {load_lanes(lanes.dx), load_lanes(lanes.dy), load_lanes(lanes.dz)}, load_lanes(lanes.tmin),
+                    load_lanes(lanes.tmax), Mask::load_unaligned(lanes.live.data())) {}
 
     static int shared_octant(const Vec3T<Mask>& negative, const Mask& active) {
         const std::uint32_t active_bits = simd::mask_bits(active);

@@ -14,10 +14,4 @@ Camera::Camera(const CameraSpec& spec, std::uint32_t width, std::uint32_t height
     tx_ = ty_ * float(width) / float(height);
 }
 
-Ray Camera::primary_ray(std::uint32_t x, std::uint32_t y) const {
-    const float sx = (2.0f * (float(x) + 0.5f) / float(width_) - 1.0f) * tx_;
-    const float sy = (1.0f - 2.0f * (float(y) + 0.5f) / float(height_)) * ty_;
-    return Ray{eye_, normalize(forward_ + sx * right_ + sy * up_), 0.0f, kInfinity};
-}
-
 }  // namespace trident

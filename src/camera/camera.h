@@ -3,6 +3,7 @@
 // document writes it, so our primary rays are bit-identical to other tracers following it.
 #include <cstdint>
 
+#include "core/lanes.h"
 #include "core/ray.h"
 #include "core/scene.h"
 
@@ -14,7 +15,20 @@ public:
 
     /// Primary ray through the centre of pixel (x, y), y = 0 the top row; direction normalized,
     /// tmin = 0, tmax = +inf.
-    Ray primary_ray(std::uint32_t x, std::uint32_t y) const;
+    Ray primary_ray(std::uint32_t x, std::uint32_t y) const {
+        return Ray{eye_, primary_direction(float(x), float(y)), 0.0f, kInfinity};
+    }
+
+    /// The direction of primary_ray through pixel (x, y), written once over float or an xsimd
+    /// batch (one pixel per lane; include simd/lanes.h for batches), so that a packet's rays are
+    /// the single rays bit for bit. x and y are pixel numbers, exact as floats.
+    template <class T>
+    Vec3T<T> primary_direction(const T& x, const T& y) const {
+        const T sx = (T(2.0f) * (x + T(0.5f)) / T(float(width_)) - T(1.0f)) * T(tx_);
+        const T sy = (T(1.0f) - T(2.0f) * (y + T(0.5f)) / T(float(height_))) * T(ty_);
+        const Vec3T<T> d = Vec3T<T>(forward_) + sx * Vec3T<T>(right_) + sy * Vec3T<T>(up_);
+        return d / Lanes<T>::sqrt(dot(d, d));  // normalize(d)
+    }
 
     std::uint32_t width() const { return width_; }
     std::uint32_t height() const { return height_; }

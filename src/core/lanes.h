@@ -31,6 +31,7 @@ struct Lanes<float> {
 
     static float select(bool mask, float if_true, float if_false) { return mask ? if_true : if_false; }
     static float abs(float x) { return std::abs(x); }
+    static float sqrt(float x) { return std::sqrt(x); }  // correctly rounded, as the batch's
     static float min(float a, float b) { return a < b ? a : b; }  // minss: b when either is NaN
     static float max(float a, float b) { return a > b ? a : b; }  // maxss: b when either is NaN
     static bool any(bool mask) { return mask; }

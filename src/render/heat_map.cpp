@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "render/primary_packets.h"
 #include "render/secondary_rays.h"
 #include "render/trace.h"
 #include "simd/packet.h"
@@ -18,23 +19,17 @@ namespace {
 template <TriangleTest Test, class Arch, class Structure>
 void count_tile_packets(const Structure& structure, const Camera& camera, const ImageTile& tile,
                         std::vector<TraversalCounters>& counts) {
-    constexpr std::size_t kLanes = RayPacket<Arch>::width;
-    constexpr auto kBlock = packet_block(kLanes);
-    std::array<Ray, kLanes> rays;
-    std::array<std::size_t, kLanes> pixel;
-    for (std::uint32_t y0 = tile.y0; y0 < tile.y1; y0 += kBlock.second)
-        for (std::uint32_t x0 = tile.x0; x0 < tile.x1; x0 += kBlock.first) {
-            std::size_t lanes = 0;
-            for (std::uint32_t y = y0; y < std::min(y0 + kBlock.second, tile.y1); ++y)
-                for (std::uint32_t x = x0; x < std::min(x0 + kBlock.first, tile.x1); ++x) {
-                    rays[lanes] = camera.primary_ray(x, y);
-                    pixel[lanes++] = std::size_t(y) * camera.width() + x;
-                }
-            const RayPacket<Arch> packet(std::span<const Ray>(rays.data(), lanes));
+    using Block = PrimaryBlock<Arch>;
+    for (std::uint32_t y0 = tile.y0; y0 < tile.y1; y0 += Block::kBlockHeight)
+        for (std::uint32_t x0 = tile.x0; x0 < tile.x1; x0 += Block::kBlockWidth) {
+            const Block block(camera, tile, x0, y0);
+            const RayPacket<Arch> packet = block.rays(camera);
             HitPacket<Arch> hits(packet);
             TraversalCounters counters;
             structure.template intersect<Test>(packet, hits, counters);
-            for (std::size_t k = 0; k < lanes; ++k) counts[pixel[k]] = counters;
+            for (std::uint32_t y = y0; y < std::min(y0 + Block::kBlockHeight, tile.y1); ++y)
+                for (std::uint32_t x = x0; x < std::min(x0 + Block::kBlockWidth, tile.x1); ++x)
+                    counts[std::size_t(y) * camera.width() + x] = counters;
         }
 }
 

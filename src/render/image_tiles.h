@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 
 #include "camera/camera.h"
 
@@ -14,6 +15,13 @@ namespace trident {
 
 /// Side of the square image tiles; a multiple of every packet block.
 inline constexpr std::uint32_t kRenderTileSize = 16;
+
+/// Pixels per packet: width x height of the block a packet of `lanes` rays covers.
+constexpr std::pair<std::uint32_t, std::uint32_t> packet_block(std::size_t lanes) {
+    return lanes == 4 ? std::pair{2u, 2u} : std::pair{4u, std::uint32_t(lanes / 4)};
+}
+static_assert(kRenderTileSize % packet_block(16).first == 0 && kRenderTileSize % packet_block(16).second == 0 &&
+              kRenderTileSize % packet_block(8).second == 0 && kRenderTileSize % packet_block(4).first == 0);
 
 struct ImageTile {
     std::uint32_t x0, y0, x1, y1;  // [x0, x1) x [y0, y1)

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "render/image_tiles.h"
+#include "render/primary_packets.h"
 #include "simd/packet.h"
 
 namespace trident {
@@ -35,27 +36,16 @@ constexpr bool can_trace_at() {
 /// Primary rays of one tile as packets of the structure's closest-hit packet traversal.
 template <TriangleTest Test, SlabTest Slabs, class Arch, class Structure>
 void trace_tile_packets(const Structure& structure, const Camera& camera, const ImageTile& tile, std::span<Hit> out) {
-    constexpr std::size_t kLanes = RayPacket<Arch>::width;
-    constexpr auto kBlock = packet_block(kLanes);
-    std::array<Ray, kLanes> rays;
-    std::array<std::size_t, kLanes> pixel;
-    std::array<Hit, kLanes> hits;
-    for (std::uint32_t y0 = tile.y0; y0 < tile.y1; y0 += kBlock.second) {
-        for (std::uint32_t x0 = tile.x0; x0 < tile.x1; x0 += kBlock.first) {
-            std::size_t lanes = 0;
-            for (std::uint32_t y = y0; y < y0 + kBlock.second && y < tile.y1; ++y)
-                for (std::uint32_t x = x0; x < x0 + kBlock.first && x < tile.x1; ++x) {
-                    rays[lanes] = camera.primary_ray(x, y);
-                    pixel[lanes++] = std::size_t(y) * camera.width() + x;
-                }
-            const RayPacket<Arch> packet(std::span<const Ray>(rays.data(), lanes));
-            HitPacket<Arch> packet_hits(packet);
+    using Block = PrimaryBlock<Arch>;
+    for (std::uint32_t y0 = tile.y0; y0 < tile.y1; y0 += Block::kBlockHeight)
+        for (std::uint32_t x0 = tile.x0; x0 < tile.x1; x0 += Block::kBlockWidth) {
+            const Block block(camera, tile, x0, y0);
+            const RayPacket<Arch> packet = block.rays(camera);
+            HitPacket<Arch> hits(packet);
             NoCounters counters;
-            structure.template intersect<Test, Slabs>(packet, packet_hits, counters);
-            packet_hits.store(std::span<Hit>(hits.data(), lanes));
-            for (std::size_t i = 0; i < lanes; ++i) out[pixel[i]] = hits[i];
+            structure.template intersect<Test, Slabs>(packet, hits, counters);
+            block.store(hits, tile, camera.width(), out);
         }
-    }
 }
 
 }  // namespace

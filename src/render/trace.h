@@ -8,6 +8,7 @@
 
 #include "accel/any_accel.h"
 #include "camera/camera.h"
+#include "render/image_tiles.h"
 #include "core/intersect_triangle.h"
 #include "core/slab_test.h"
 #include "simd/width.h"
@@ -35,11 +36,6 @@ bool has_packet_traversal(const AnyAccel& accel, SimdWidth width);
 std::vector<TraversalCounters> count_primary(const AnyAccel& accel, const Camera& camera,
                                              TriangleTest test = TriangleTest::watertight,
                                              SlabTest slabs = SlabTest::robust);
-
-/// Pixels per packet: width x height of the block a packet of `lanes` rays covers.
-constexpr std::pair<std::uint32_t, std::uint32_t> packet_block(std::size_t lanes) {
-    return lanes == 4 ? std::pair{2u, 2u} : std::pair{4u, std::uint32_t(lanes / 4)};
-}
 
 /// Calls f(std::integral_constant<TriangleTest, T>{}) for the run-time choice, so kernels are
 /// instantiated for each test rather than branching per triangle.

@@ -1,0 +1,70 @@
+#pragma once
+// Primary rays a packet at a time: the rays of one packet block (image_tiles.h) made in SIMD, one
+// pixel per lane, and the packet's hits written back into the image row by row. Making each ray
+// alone and gathering the lanes cost about as much as the 8-wide BVH traversal on the study's
+// simple scenes; Camera::primary_direction over a batch makes them all at once, bit for bit the
+// single rays.
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <span>
+#include <xsimd/xsimd.hpp>
+
+#include "camera/camera.h"
+#include "render/image_tiles.h"
+#include "simd/lanes.h"
+#include "simd/packet.h"
+
+namespace trident {
+
+/// The lanes of the packet block with top-left pixel (x0, y0): lane i is pixel (x0 + i % block
+/// width, y0 + i / block width). Lanes whose pixel lies outside `tile` are inactive; their
+/// direction is that of the nearest pixel inside, so it is finite.
+template <class Arch>
+struct PrimaryBlock {
+    using Float = xsimd::batch<float, Arch>;
+    using Mask = xsimd::batch_bool<float, Arch>;
+    static constexpr std::size_t kLanes = Float::size;
+    static constexpr std::uint32_t kBlockWidth = packet_block(kLanes).first;
+    static constexpr std::uint32_t kBlockHeight = packet_block(kLanes).second;
+
+    std::uint32_t x0, y0;
+    Vec3T<Float> dir;
+    Mask active;
+
+    PrimaryBlock(const Camera& camera, const ImageTile& tile, std::uint32_t x0_, std::uint32_t y0_) : x0(x0_), y0(y0_) {
+        const Float x = Float(float(x0)) + Float::load_aligned(kColumns.data());
+        const Float y = Float(float(y0)) + Float::load_aligned(kRows.data());
+        const Float last_x(float(tile.x1 - 1)), last_y(float(tile.y1 - 1));
+        active = (x <= last_x) & (y <= last_y);
+        // Whole numbers below 2^24 throughout, so every sum and comparison here is exact.
+        dir = camera.primary_direction(Lanes<Float>::min(x, last_x), Lanes<Float>::min(y, last_y));
+    }
+
+    RayPacket<Arch> rays(const Camera& camera) const {
+        return RayPacket<Arch>(Vec3T<Float>(camera.eye()), dir, Float(0.0f), Float(kInfinity), active);
+    }
+
+    /// The block's lanes of `hits` into the image `out` (row-major, `image_width` wide), inside
+    /// `tile` only.
+    void store(const HitPacket<Arch>& hits, const ImageTile& tile, std::uint32_t image_width,
+               std::span<Hit> out) const {
+        std::array<Hit, kLanes> lanes;
+        hits.store(lanes);
+        const std::uint32_t columns = std::min(kBlockWidth, tile.x1 - x0);
+        for (std::uint32_t row = 0; row < kBlockHeight && y0 + row < tile.y1; ++row)
+            std::copy_n(lanes.begin() + row * kBlockWidth, columns,
+                        out.begin() + std::ptrdiff_t(std::size_t(y0 + row) * image_width + x0));
+    }
+
+private:
+    /// Each lane's column and row within the block.
+    static constexpr std::array<float, kLanes> lane_offsets(bool rows) {
+        std::array<float, kLanes> out{};
+        for (std::size_t i = 0; i < kLanes; ++i) out[i] = float(rows ? i / kBlockWidth : i % kBlockWidth);
+        return out;
+    }
+    alignas(64) static constexpr std::array<float, kLanes> kColumns = lane_offsets(false), kRows = lane_offsets(true);
+};
+
+}  // namespace trident
