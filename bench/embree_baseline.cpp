@@ -140,9 +140,9 @@ void trace_packets(RTCScene scene, const Camera& camera, std::span<Hit> hits) {
             block.dir.x.store_aligned(rayhit.ray.dir_x);
             block.dir.y.store_aligned(rayhit.ray.dir_y);
             block.dir.z.store_aligned(rayhit.ray.dir_z);
-            Batch(camera.eye().x).store_aligned(rayhit.ray.org_x);
-            Batch(camera.eye().y).store_aligned(rayhit.ray.org_y);
-            Batch(camera.eye().z).store_aligned(rayhit.ray.org_z);
+            Batch(block.origin.x).store_aligned(rayhit.ray.org_x);
+            Batch(block.origin.y).store_aligned(rayhit.ray.org_y);
+            Batch(block.origin.z).store_aligned(rayhit.ray.org_z);
             Batch(0.0f).store_aligned(rayhit.ray.tnear);
             Batch(kInfinity).store_aligned(rayhit.ray.tfar);
             const std::uint32_t active = simd::mask_bits(block.active);

@@ -23,7 +23,7 @@ void count_tile_packets(const Structure& structure, const Camera& camera, const 
     for (std::uint32_t y0 = tile.y0; y0 < tile.y1; y0 += Block::kBlockHeight)
         for (std::uint32_t x0 = tile.x0; x0 < tile.x1; x0 += Block::kBlockWidth) {
             const Block block(camera, tile, x0, y0);
-            const RayPacket<Arch> packet = block.rays(camera);
+            const RayPacket<Arch> packet = block.rays();
             HitPacket<Arch> hits(packet);
             TraversalCounters counters;
             structure.template intersect<Test>(packet, hits, counters);

@@ -20,8 +20,12 @@ inline constexpr std::uint32_t kRenderTileSize = 16;
 constexpr std::pair<std::uint32_t, std::uint32_t> packet_block(std::size_t lanes) {
     return lanes == 4 ? std::pair{2u, 2u} : std::pair{4u, std::uint32_t(lanes / 4)};
 }
-static_assert(kRenderTileSize % packet_block(16).first == 0 && kRenderTileSize % packet_block(16).second == 0 &&
-              kRenderTileSize % packet_block(8).second == 0 && kRenderTileSize % packet_block(4).first == 0);
+static_assert([] {
+    for (const std::size_t lanes : {4, 8, 16})
+        if (kRenderTileSize % packet_block(lanes).first != 0 || kRenderTileSize % packet_block(lanes).second != 0)
+            return false;
+    return true;
+}());
 
 struct ImageTile {
     std::uint32_t x0, y0, x1, y1;  // [x0, x1) x [y0, y1)

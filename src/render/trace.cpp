@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <array>
 #include <stdexcept>
 
 #include "render/image_tiles.h"
@@ -40,7 +39,7 @@ void trace_tile_packets(const Structure& structure, const Camera& camera, const 
     for (std::uint32_t y0 = tile.y0; y0 < tile.y1; y0 += Block::kBlockHeight)
         for (std::uint32_t x0 = tile.x0; x0 < tile.x1; x0 += Block::kBlockWidth) {
             const Block block(camera, tile, x0, y0);
-            const RayPacket<Arch> packet = block.rays(camera);
+            const RayPacket<Arch> packet = block.rays();
             HitPacket<Arch> hits(packet);
             NoCounters counters;
             structure.template intersect<Test, Slabs>(packet, hits, counters);

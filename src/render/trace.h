@@ -8,9 +8,9 @@
 
 #include "accel/any_accel.h"
 #include "camera/camera.h"
-#include "render/image_tiles.h"
 #include "core/intersect_triangle.h"
 #include "core/slab_test.h"
+#include "render/image_tiles.h"
 #include "simd/width.h"
 
 namespace trident {

@@ -24,7 +24,7 @@ void check_blocks(const Camera& camera, const ImageTile& tile) {
     for (std::uint32_t y0 = tile.y0; y0 < tile.y1; y0 += Block::kBlockHeight)
         for (std::uint32_t x0 = tile.x0; x0 < tile.x1; x0 += Block::kBlockWidth) {
             const Block block(camera, tile, x0, y0);
-            const RayPacket<Arch> rays = block.rays(camera);
+            const RayPacket<Arch> rays = block.rays();
             const auto dx = Lanes<typename Block::Float>::to_array(rays.dir.x);
             const auto dy = Lanes<typename Block::Float>::to_array(rays.dir.y);
             const auto dz = Lanes<typename Block::Float>::to_array(rays.dir.z);
