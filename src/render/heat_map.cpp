@@ -19,18 +19,15 @@ namespace {
 template <TriangleTest Test, class Arch, class Structure>
 void count_tile_packets(const Structure& structure, const Camera& camera, const ImageTile& tile,
                         std::vector<TraversalCounters>& counts) {
-    using Block = PrimaryBlock<Arch>;
-    for (std::uint32_t y0 = tile.y0; y0 < tile.y1; y0 += Block::kBlockHeight)
-        for (std::uint32_t x0 = tile.x0; x0 < tile.x1; x0 += Block::kBlockWidth) {
-            const Block block(camera, tile, x0, y0);
-            const RayPacket<Arch> packet = block.rays();
-            HitPacket<Arch> hits(packet);
-            TraversalCounters counters;
-            structure.template intersect<Test>(packet, hits, counters);
-            for (std::uint32_t y = y0; y < std::min(y0 + Block::kBlockHeight, tile.y1); ++y)
-                for (std::uint32_t x = x0; x < std::min(x0 + Block::kBlockWidth, tile.x1); ++x)
-                    counts[std::size_t(y) * camera.width() + x] = counters;
-        }
+    for_each_primary_block<Arch>(camera, tile, [&](const PrimaryBlock<Arch>& block) {
+        const RayPacket<Arch> packet = block.rays();
+        HitPacket<Arch> hits(packet);
+        TraversalCounters counters;
+        structure.template intersect<Test>(packet, hits, counters);
+        block.for_each_pixel(tile, [&](std::uint32_t x, std::uint32_t y) {
+            counts[std::size_t(y) * camera.width() + x] = counters;
+        });
+    });
 }
 
 // A perceptually ordered ramp (dark blue -> teal -> yellow -> white-hot), sampled linearly.

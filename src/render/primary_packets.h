@@ -48,6 +48,13 @@ struct PrimaryBlock {
         return RayPacket<Arch>(Vec3T<Float>(origin), dir, Float(0.0f), Float(kInfinity), active);
     }
 
+    /// f(x, y) for each of the block's pixels inside `tile`, row by row.
+    template <class F>
+    void for_each_pixel(const ImageTile& tile, F&& f) const {
+        for (std::uint32_t y = y0; y < std::min(y0 + kBlockHeight, tile.y1); ++y)
+            for (std::uint32_t x = x0; x < std::min(x0 + kBlockWidth, tile.x1); ++x) f(x, y);
+    }
+
     /// The block's lanes of `hits` into the image `out` (row-major, `image_width` wide), inside
     /// `tile` only.
     void store(const HitPacket<Arch>& hits, const ImageTile& tile, std::uint32_t image_width,
@@ -69,5 +76,13 @@ private:
     }
     alignas(64) static constexpr std::array<float, kLanes> kColumns = lane_offsets(false), kRows = lane_offsets(true);
 };
+
+/// per_block(PrimaryBlock<Arch>) for each packet block of `tile`, row by row.
+template <class Arch, class PerBlock>
+void for_each_primary_block(const Camera& camera, const ImageTile& tile, PerBlock&& per_block) {
+    using Block = PrimaryBlock<Arch>;
+    for (std::uint32_t y0 = tile.y0; y0 < tile.y1; y0 += Block::kBlockHeight)
+        for (std::uint32_t x0 = tile.x0; x0 < tile.x1; x0 += Block::kBlockWidth) per_block(Block(camera, tile, x0, y0));
+}
 
 }  // namespace trident

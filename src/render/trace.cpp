@@ -35,16 +35,13 @@ constexpr bool can_trace_at() {
 /// Primary rays of one tile as packets of the structure's closest-hit packet traversal.
 template <TriangleTest Test, SlabTest Slabs, class Arch, class Structure>
 void trace_tile_packets(const Structure& structure, const Camera& camera, const ImageTile& tile, std::span<Hit> out) {
-    using Block = PrimaryBlock<Arch>;
-    for (std::uint32_t y0 = tile.y0; y0 < tile.y1; y0 += Block::kBlockHeight)
-        for (std::uint32_t x0 = tile.x0; x0 < tile.x1; x0 += Block::kBlockWidth) {
-            const Block block(camera, tile, x0, y0);
-            const RayPacket<Arch> packet = block.rays();
-            HitPacket<Arch> hits(packet);
-            NoCounters counters;
-            structure.template intersect<Test, Slabs>(packet, hits, counters);
-            block.store(hits, tile, camera.width(), out);
-        }
+    for_each_primary_block<Arch>(camera, tile, [&](const PrimaryBlock<Arch>& block) {
+        const RayPacket<Arch> packet = block.rays();
+        HitPacket<Arch> hits(packet);
+        NoCounters counters;
+        structure.template intersect<Test, Slabs>(packet, hits, counters);
+        block.store(hits, tile, camera.width(), out);
+    });
 }
 
 }  // namespace
