@@ -66,8 +66,7 @@ private:
                 const Ray& ray = rays[live[i] ? i : 0];
                 ox[i] = ray.origin.x, oy[i] = ray.origin.y, oz[i] = ray.origin.z;
                 dx[i] = ray.dir.x, dy[i] = ray.dir.y, dz[i] = ray.dir.z;
-                tmin[i] = live[i] ? ray.tmin : kInfinity;
-                tmax[i] = live[i] ? ray.tmax : -kInfinity;
+                tmin[i] = ray.tmin, tmax[i] = ray.tmax;  // the lane constructor empties dead lanes
             }
         }
     };

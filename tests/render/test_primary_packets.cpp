@@ -21,30 +21,32 @@ void check_blocks(const Camera& camera, const ImageTile& tile) {
     using Block = PrimaryBlock<Arch>;
     std::vector<Hit> image(std::size_t(camera.width()) * camera.height());
     std::size_t wrong_rays = 0, wrong_activity = 0;
-    for (std::uint32_t y0 = tile.y0; y0 < tile.y1; y0 += Block::kBlockHeight)
-        for (std::uint32_t x0 = tile.x0; x0 < tile.x1; x0 += Block::kBlockWidth) {
-            const Block block(camera, tile, x0, y0);
-            const RayPacket<Arch> rays = block.rays();
-            const auto dx = Lanes<typename Block::Float>::to_array(rays.dir.x);
-            const auto dy = Lanes<typename Block::Float>::to_array(rays.dir.y);
-            const auto dz = Lanes<typename Block::Float>::to_array(rays.dir.z);
-            const std::uint32_t active = simd::mask_bits(rays.active);
-            HitPacket<Arch> hits(rays);
-            alignas(64) std::array<std::uint32_t, Block::kLanes> ids;
-            for (std::size_t i = 0; i < Block::kLanes; ++i) {
-                const std::uint32_t x = x0 + std::uint32_t(i) % Block::kBlockWidth;
-                const std::uint32_t y = y0 + std::uint32_t(i) / Block::kBlockWidth;
-                const bool inside = x < tile.x1 && y < tile.y1;
-                wrong_activity += inside != bool(active >> i & 1u);
-                ids[i] = inside ? y * camera.width() + x : kNoTriangle;  // each lane "hits" its own pixel number
-                if (!inside) continue;
-                const Ray ray = camera.primary_ray(x, y);
-                wrong_rays +=
-                    !(same_bits(dx[i], ray.dir.x) && same_bits(dy[i], ray.dir.y) && same_bits(dz[i], ray.dir.z));
-            }
-            hits.triangle = HitPacket<Arch>::Ids::load_aligned(ids.data());
-            block.store(hits, tile, camera.width(), image);
+    std::size_t blocks = 0;
+    for_each_primary_block<Arch>(camera, tile, [&](const Block& block) {
+        ++blocks;
+        const RayPacket<Arch> rays = block.rays();
+        const auto dx = Lanes<typename Block::Float>::to_array(rays.dir.x);
+        const auto dy = Lanes<typename Block::Float>::to_array(rays.dir.y);
+        const auto dz = Lanes<typename Block::Float>::to_array(rays.dir.z);
+        const std::uint32_t active = simd::mask_bits(rays.active);
+        HitPacket<Arch> hits(rays);
+        alignas(64) std::array<std::uint32_t, Block::kLanes> ids;
+        for (std::size_t i = 0; i < Block::kLanes; ++i) {
+            const std::uint32_t x = block.x0 + std::uint32_t(i) % Block::kBlockWidth;
+            const std::uint32_t y = block.y0 + std::uint32_t(i) / Block::kBlockWidth;
+            const bool inside = x < tile.x1 && y < tile.y1;
+            wrong_activity += inside != bool(active >> i & 1u);
+            ids[i] = inside ? y * camera.width() + x : kNoTriangle;  // each lane "hits" its own pixel number
+            if (!inside) continue;
+            const Ray ray = camera.primary_ray(x, y);
+            wrong_rays += !(same_bits(dx[i], ray.dir.x) && same_bits(dy[i], ray.dir.y) && same_bits(dz[i], ray.dir.z));
         }
+        hits.triangle = HitPacket<Arch>::Ids::load_aligned(ids.data());
+        block.store(hits, tile, camera.width(), image);
+    });
+    const auto blocks_across = (tile.x1 - tile.x0 + Block::kBlockWidth - 1) / Block::kBlockWidth;
+    const auto blocks_down = (tile.y1 - tile.y0 + Block::kBlockHeight - 1) / Block::kBlockHeight;
+    CHECK(blocks == std::size_t(blocks_across) * blocks_down);
     CHECK(wrong_rays == 0);
     CHECK(wrong_activity == 0);
     std::size_t wrong_pixels = 0;
