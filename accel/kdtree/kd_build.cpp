@@ -295,20 +295,14 @@ private:
                     ThreadScratch& scratch) {
         Split split;
         if (node.size() > options_.leaf_triangles && depth < max_depth_) {
-            split = find_split(node);
-            // pbrt: a split costing more than the leaf is allowed a few times in a row, in case the
-            // splits below it pay off; then, or when it is far worse for a small node, a leaf.
-            const double leaf_cost = double(options_.intersection_cost) * double(node.size());
-            if (split.found() && split.cost > leaf_cost) {
-                ++bad_refines;
-                if (bad_refines >= options_.max_bad_refines || (split.cost > 4.0 * leaf_cost && node.size() < 16))
-                    split = {};
-            } else {
-                bad_refines = 0;
+            if (node.size() <= kSmallNode) {
+                build_small(small_node_of(node), out, slot, depth, bad_refines);
+                return;
             }
+            split = judged(find_split(node), node.size(), bad_refines);
         }
         if (!split.found()) {
-            make_leaf(node, out, slot);
+            make_leaf(node.prims, out, slot);
             return;
         }
 
@@ -334,11 +328,24 @@ private:
         scratch.kept.release(mark);
     }
 
-    static void make_leaf(const NodeWork& node, Subtree& out, std::size_t slot) {
+    /// pbrt: a split costing more than the leaf is allowed a few times in a row, in case the splits
+    /// below it pay off; then, or when it is far worse for a small node, a leaf (no split).
+    Split judged(Split split, std::size_t size, int& bad_refines) const {
+        const double leaf_cost = double(options_.intersection_cost) * double(size);
+        if (split.found() && split.cost > leaf_cost) {
+            ++bad_refines;
+            if (bad_refines >= options_.max_bad_refines || (split.cost > 4.0 * leaf_cost && size < 16)) return {};
+        } else {
+            bad_refines = 0;
+        }
+        return split;
+    }
+
+    static void make_leaf(std::span<const std::uint32_t> prims, Subtree& out, std::size_t slot) {
         const std::size_t offset = out.leaf_triangles.size();
-        out.nodes[slot] = KdNode::leaf(std::uint32_t(node.size()), offset);
-        out.leaf_triangles.insert(out.leaf_triangles.end(), node.prims.begin(), node.prims.end());
-        if (node.size() > 1) std::sort(out.leaf_triangles.begin() + std::ptrdiff_t(offset), out.leaf_triangles.end());
+        out.nodes[slot] = KdNode::leaf(std::uint32_t(prims.size()), offset);
+        out.leaf_triangles.insert(out.leaf_triangles.end(), prims.begin(), prims.end());
+        if (prims.size() > 1) std::sort(out.leaf_triangles.begin() + std::ptrdiff_t(offset), out.leaf_triangles.end());
     }
 
     /// Adds the nodes emit() appends for `tree` (all but its root) and its leaf-triangle entries.
@@ -386,24 +393,184 @@ private:
         return out;
     }
 
-    /// The cheapest plane on one axis (sah_sweep.h).
-    Split sweep(const NodeWork& node, int axis) const {
-        const Vec3f extent = node.cell.extent();
+    /// What the SAH of one axis needs of a node's cell, and the cell's half surface area (not
+    /// positive for a cell reduced to a segment or a point, which no plane can split).
+    struct AxisSetup {
+        kd::SweepSetup sweep;
+        double half_area;
+    };
+    AxisSetup axis_setup(const Aabb& cell, int axis, std::size_t size) const {
+        const Vec3f extent = cell.extent();
         const int u = (axis + 1) % 3, v = (axis + 2) % 3;
         // Half surface areas: the children's faces across `axis` are fixed, their sides scale.
         const double across = double(extent[u]) * double(extent[v]);
         const double side = double(extent[u]) + double(extent[v]);
-        const double half_area = across + double(extent[axis]) * side;
-        if (!(half_area > 0.0)) return {};  // a cell reduced to a segment or a point
-        const float lo = node.cell.lo[axis], hi = node.cell.hi[axis];
-        const kd::SweepSetup setup{
-            std::int64_t(node.size()),         across - double(lo) * side, across + double(hi) * side, side, lo, hi,
-            1.0 - double(options_.empty_bonus)};
-        const kd::SweepBest best = kd::sweep_events(node.events[axis], setup);
+        const float lo = cell.lo[axis], hi = cell.hi[axis];
+        return {{std::int64_t(size), across - double(lo) * side, across + double(hi) * side, side, lo, hi,
+                 1.0 - double(options_.empty_bonus)},
+                across + double(extent[axis]) * side};
+    }
+    double split_cost(double weighted, double half_area) const {
+        return double(options_.traversal_cost) + double(options_.intersection_cost) * weighted / half_area;
+    }
+
+    /// The cheapest plane on one axis (sah_sweep.h).
+    Split sweep(const NodeWork& node, int axis) const {
+        const AxisSetup setup = axis_setup(node.cell, axis, node.size());
+        if (!(setup.half_area > 0.0)) return {};
+        const kd::SweepBest best = kd::sweep_events(node.events[axis], setup.sweep);
         if (!best.found()) return {};
-        const double cost =
-            double(options_.traversal_cost) + double(options_.intersection_cost) * best.weighted() / half_area;
-        return {axis, node.events[axis][best.tag >> 1].position, (best.tag & 1u) != 0, cost};
+        return {axis, node.events[axis][best.tag >> 1].position, (best.tag & 1u) != 0,
+                split_cost(best.weighted(), setup.half_area)};
+    }
+
+    // ---- Small nodes -----------------------------------------------------------------------------
+
+    /// A node of at most kSmallNode triangles is built, with its whole subtree, from its triangles'
+    /// boxes in fixed arrays instead of event lists: SAH by counting (kd::count_planes), the split
+    /// by comparing box ends with the plane. The event lists' upkeep (the classification, the
+    /// renumbering, the filtered copies, the scratch allocations) costs a node of a few triangles
+    /// far more than its plane search; these nodes are most of the tree. The boxes are the ones
+    /// its events describe, so the tree is the one the event lists give, node for node.
+    static constexpr std::size_t kSmallNode = 8;
+
+    struct SmallNode {
+        Aabb cell;
+        std::size_t count = 0;
+        std::array<std::uint32_t, kSmallNode> prims;  // local index -> triangle
+        std::array<kd::BoxEnds<kSmallNode>, 3> axes;  // per axis, each triangle's box ends here
+
+        std::span<const std::uint32_t> triangles() const { return {prims.data(), count}; }
+        /// Appends a triangle with its box ends (`lo` and `hi` per axis).
+        void add(std::uint32_t prim, const float (&lo)[3], const float (&hi)[3]) {
+            prims[count] = prim;
+            for (int axis = 0; axis < 3; ++axis) {
+                axes[axis].lo[count] = lo[axis];
+                axes[axis].hi[count] = hi[axis];
+            }
+            ++count;
+        }
+        /// Pads the arrays past `count` with ends no plane counts.
+        void pad() {
+            for (auto& ends : axes)
+                for (std::size_t j = count; j < kSmallNode; ++j) {
+                    ends.lo[j] = kInfinity;
+                    ends.hi[j] = -kInfinity;
+                }
+        }
+    };
+
+    /// The boxes a node's events describe: a start is a box's lower end, an end its upper end, a
+    /// planar event both.
+    static SmallNode small_node_of(const NodeWork& node) {
+        SmallNode small;
+        small.cell = node.cell;
+        small.count = node.size();
+        std::copy(node.prims.begin(), node.prims.end(), small.prims.begin());
+        small.pad();
+        for (int axis = 0; axis < 3; ++axis) {
+            kd::BoxEnds<kSmallNode>& ends = small.axes[axis];
+            for (const Event& e : node.events[axis]) {
+                if (e.type() != EventType::end) ends.lo[e.prim()] = e.position;
+                if (e.type() != EventType::start) ends.hi[e.prim()] = e.position;
+            }
+        }
+        return small;
+    }
+
+    void build_small(const SmallNode& node, Subtree& out, std::size_t slot, int depth, int bad_refines) const {
+        Split split;
+        if (node.count > options_.leaf_triangles && depth < max_depth_)
+            split = judged(find_small_split(node), node.count, bad_refines);
+        if (!split.found()) {
+            make_leaf(node.triangles(), out, slot);
+            return;
+        }
+        SmallNode below, above;
+        split_small(node, split, below, above);
+        const std::size_t first_child = out.nodes.size();
+        out.nodes[slot] = KdNode::interior(split.axis, split.position, first_child);
+        out.nodes.push_back(kPlaceholder);
+        out.nodes.push_back(kPlaceholder);
+        build_small(below, out, first_child, depth + 1, bad_refines);
+        build_small(above, out, first_child + 1, depth + 1, bad_refines);
+    }
+
+    /// find_split's plane for the node's events, from its boxes.
+    Split find_small_split(const SmallNode& node) const {
+        Split out;
+        for (int axis = 0; axis < 3; ++axis) {
+            const AxisSetup setup = axis_setup(node.cell, axis, node.count);
+            if (!(setup.half_area > 0.0)) continue;
+            const kd::CountedPlane plane = kd::count_planes(node.axes[axis], node.count, setup.sweep);
+            if (!plane.found()) continue;
+            const double cost = split_cost(plane.weighted(), setup.half_area);
+            if (cost < out.cost) out = {axis, plane.position, plane.planars_below, cost};  // ties to the lower axis
+        }
+        return out;
+    }
+
+    /// split_node's children, from the boxes: a box ending on or before the plane goes below, one
+    /// starting on or after it above, a flat one in it to the side the split names, and a box
+    /// across it (a straddler) to both, clamped to each child's cell (clipped, with perfect splits).
+    void split_small(const SmallNode& node, const Split& split, SmallNode& below, SmallNode& above) const {
+        const int k = split.axis;
+        const float p = split.position;
+        below.cell = above.cell = node.cell;
+        below.cell.hi[k] = p;
+        above.cell.lo[k] = p;
+        std::array<std::uint32_t, kSmallNode> straddlers;
+        std::size_t straddler_count = 0;
+        auto ends_of = [&](std::size_t i, float(&lo)[3], float(&hi)[3]) {
+            for (int axis = 0; axis < 3; ++axis) {
+                lo[axis] = node.axes[axis].lo[i];
+                hi[axis] = node.axes[axis].hi[i];
+            }
+        };
+        for (std::size_t i = 0; i < node.count; ++i) {
+            const float lo_k = node.axes[k].lo[i], hi_k = node.axes[k].hi[i];
+            const bool flat = lo_k == hi_k;
+            const bool goes_below = flat ? lo_k < p || (lo_k == p && split.planars_below) : hi_k <= p;
+            const bool goes_above = flat ? lo_k > p || (lo_k == p && !split.planars_below) : lo_k >= p;
+            if (!goes_below && !goes_above) {
+                straddlers[straddler_count++] = std::uint32_t(i);
+                continue;
+            }
+            float lo[3], hi[3];
+            ends_of(i, lo, hi);
+            (goes_below ? below : above).add(node.prims[i], lo, hi);
+        }
+        for (std::size_t j = 0; j < straddler_count; ++j) {
+            const std::uint32_t i = straddlers[j];
+            if (!options_.perfect_splits) {
+                float lo[3], hi[3];
+                ends_of(i, lo, hi);
+                const float hi_k = hi[k];
+                hi[k] = p;
+                below.add(node.prims[i], lo, hi);
+                hi[k] = hi_k;
+                lo[k] = p;
+                above.add(node.prims[i], lo, hi);
+                continue;
+            }
+            // As split_node clips them: both empty only through rounding, for a triangle touching
+            // the plane, and then the clamped boxes go to both sides.
+            const std::uint32_t id = node.prims[i];
+            std::array<Aabb, 2> boxes{intersection(bounds_[id], below.cell), intersection(bounds_[id], above.cell)};
+            const auto clipped_below = kd::clipped_triangle_bounds(triangles_[id], below.cell);
+            const auto clipped_above = kd::clipped_triangle_bounds(triangles_[id], above.cell);
+            const bool both = !clipped_below && !clipped_above;
+            if (clipped_below) boxes[0] = *clipped_below;
+            if (clipped_above) boxes[1] = *clipped_above;
+            for (int c = 0; c < 2; ++c) {
+                if (!both && !(c == 0 ? clipped_below : clipped_above)) continue;
+                const float lo[3] = {boxes[c].lo.x, boxes[c].lo.y, boxes[c].lo.z};
+                const float hi[3] = {boxes[c].hi.x, boxes[c].hi.y, boxes[c].hi.z};
+                (c == 0 ? below : above).add(id, lo, hi);
+            }
+        }
+        below.pad();
+        above.pad();
     }
 
     // ---- Splitting the node's lists (Wald and Havran, sections 4.3 and 4.4) ----------------------
@@ -634,7 +801,7 @@ private:
     std::span<const Triangle> file_triangles_;
     std::vector<Triangle> triangles_;  // those with finite corners, in Morton order
     const KdTreeOptions& options_;
-    std::vector<Aabb> bounds_;         // per triangle of triangles_
+    std::vector<Aabb> bounds_;  // per triangle of triangles_
     int max_depth_ = 0;
     tbb::enumerable_thread_specific<ThreadScratch> scratch_;
 };

@@ -54,15 +54,21 @@ struct SweepState {
 
 inline std::uint32_t position_bits(const Event& e) { return std::bit_cast<std::uint32_t>(e.position); }
 
-inline void consider(const SweepSetup& s, float position, double below_area, double above_area, std::int64_t nb,
-                     std::int64_t na, std::uint64_t tag, SweepBest& best) {
+/// The candidate's area-weighted counts as ordered bits, SweepBest::kNone when it makes no progress.
+inline std::uint64_t candidate_key(const SweepSetup& s, float position, double below_area, double above_area,
+                                   std::int64_t nb, std::int64_t na) {
     double weighted = below_area * double(nb) + above_area * double(na);
     if (nb * na == 0) [[unlikely]] {
         // A child equal to the node (the other one flat and empty) makes no progress.
-        if ((nb == 0 && position == s.lo) || (na == 0 && position == s.hi)) return;
+        if ((nb == 0 && position == s.lo) || (na == 0 && position == s.hi)) return SweepBest::kNone;
         weighted *= s.empty_scale;  // pbrt applies the bonus to the intersection term only
     }
-    const auto key = std::bit_cast<std::uint64_t>(weighted);
+    return std::bit_cast<std::uint64_t>(weighted);
+}
+
+inline void consider(const SweepSetup& s, float position, double below_area, double above_area, std::int64_t nb,
+                     std::int64_t na, std::uint64_t tag, SweepBest& best) {
+    const std::uint64_t key = candidate_key(s, position, below_area, above_area, nb, na);
     const bool better = key < best.key;
     best.tag = better ? tag : best.tag;
     best.key = better ? key : best.key;
@@ -245,6 +251,146 @@ inline SweepBest sweep_events(std::span<const Event> events, const SweepSetup& s
     return sweep_events_avx512(events, setup);
 #else
     return sweep_events_scalar(events, setup);
+#endif
+}
+
+/// The triangles of a small node on one axis, as their boxes' ends (lo == hi where a box is flat
+/// on the axis), padded to Capacity with lo = +inf, hi = -inf, which no plane counts. With
+/// Capacity 8, the 16 ends are one 64-byte line: one AVX-512 vector of candidate planes.
+template <std::size_t Capacity>
+struct alignas(64) BoxEnds {
+    float lo[Capacity];
+    float hi[Capacity];
+};
+
+/// The plane a sweep finds, as a position rather than an event.
+struct CountedPlane {
+    std::uint64_t key = SweepBest::kNone;
+    float position = 0.0f;
+    bool planars_below = false;
+
+    bool found() const { return key != SweepBest::kNone; }
+    double weighted() const { return std::bit_cast<double>(key); }
+};
+
+/// count_planes one candidate at a time: the reference, and the search where AVX-512 is missing.
+template <std::size_t Capacity>
+CountedPlane count_planes_scalar(const BoxEnds<Capacity>& ends, std::size_t count, const SweepSetup& s) {
+    CountedPlane best;
+    auto take = [&](std::uint64_t key, float position, bool planars_below) {
+        const bool better =
+            key < best.key ||
+            (key == best.key && key != SweepBest::kNone &&
+             (position < best.position || (position == best.position && !planars_below && best.planars_below)));
+        if (better) best = {key, position + 0.0f, planars_below};  // +0 for -0, as events store it
+    };
+    auto evaluate = [&](float position) {
+        std::int32_t nb = 0, na = 0, in_plane = 0;
+        for (std::size_t j = 0; j < count; ++j) {
+            nb += ends.lo[j] < position;
+            na += ends.hi[j] > position;
+            in_plane += (ends.lo[j] == position) & (ends.hi[j] == position);
+        }
+        const double scaled = double(position) * s.side;
+        const double below_area = s.below_base + scaled, above_area = s.above_base - scaled;
+        take(detail::candidate_key(s, position, below_area, above_area, nb, na + in_plane), position, false);
+        if (in_plane > 0)
+            take(detail::candidate_key(s, position, below_area, above_area, nb + in_plane, na), position, true);
+    };
+    for (std::size_t i = 0; i < count; ++i) {
+        evaluate(ends.lo[i]);
+        if (ends.hi[i] != ends.lo[i]) evaluate(ends.hi[i]);
+    }
+    return best;
+}
+
+#if TRIDENT_KD_AVX512
+namespace detail {
+
+/// Eight candidates' keys as candidate_key computes them (the same double operations in the same
+/// order), all ones where a candidate is not `valid` or makes no progress.
+inline __m512i candidate_keys(const SweepSetup& s, __mmask8 valid, __m256 position, __m256i nb, __m256i na) {
+    const __m512d scaled = _mm512_mul_pd(_mm512_maskz_cvtps_pd(0xFF, position), _mm512_set1_pd(s.side));
+    const __m512d below_area = _mm512_add_pd(_mm512_set1_pd(s.below_base), scaled);
+    const __m512d above_area = _mm512_sub_pd(_mm512_set1_pd(s.above_base), scaled);
+    const __m512d weighted = _mm512_add_pd(_mm512_mul_pd(below_area, _mm512_maskz_cvtepi32_pd(0xFF, nb)),
+                                           _mm512_mul_pd(above_area, _mm512_maskz_cvtepi32_pd(0xFF, na)));
+    const __mmask8 below_empty = _mm256_cmpeq_epi32_mask(nb, _mm256_setzero_si256());
+    const __mmask8 above_empty = _mm256_cmpeq_epi32_mask(na, _mm256_setzero_si256());
+    const __mmask8 no_progress = (below_empty & _mm256_cmp_ps_mask(position, _mm256_set1_ps(s.lo), _CMP_EQ_OQ)) |
+                                 (above_empty & _mm256_cmp_ps_mask(position, _mm256_set1_ps(s.hi), _CMP_EQ_OQ));
+    const __m512i key = _mm512_castpd_si512(
+        _mm512_mask_mul_pd(weighted, below_empty | above_empty, weighted, _mm512_set1_pd(s.empty_scale)));
+    return _mm512_mask_mov_epi64(_mm512_set1_epi64(-1), valid & ~no_progress, key);
+}
+
+}  // namespace detail
+
+/// count_planes with the 16 box ends of up to 8 triangles as one vector of candidates: each
+/// triangle adds its counts to all of them at once; the keys of the ends and of the variants with
+/// planar triangles below are computed eight at a time, and ties (equal keys) are resolved as the
+/// scalar search resolves them.
+inline CountedPlane count_planes_avx512(const BoxEnds<8>& ends, std::size_t count, const SweepSetup& s) {
+    constexpr float kInfinityPosition = std::numeric_limits<float>::infinity();
+    const __m512 candidates = _mm512_load_ps(ends.lo);  // lanes 0-7 the lower ends, 8-15 the upper ones
+    const __mmask16 triangles = __mmask16((1u << count) - 1u);
+    const __mmask16 valid = __mmask16(triangles | triangles << 8);
+    const __m512i one = _mm512_set1_epi32(1);
+    __m512i nb = _mm512_setzero_si512(), na = _mm512_setzero_si512(), in_plane = _mm512_setzero_si512();
+    for (std::size_t j = 0; j < count; ++j) {
+        const __m512 lo = _mm512_set1_ps(ends.lo[j]), hi = _mm512_set1_ps(ends.hi[j]);
+        nb = _mm512_mask_add_epi32(nb, _mm512_cmp_ps_mask(candidates, lo, _CMP_GT_OQ), nb, one);
+        na = _mm512_mask_add_epi32(na, _mm512_cmp_ps_mask(candidates, hi, _CMP_LT_OQ), na, one);
+        if (ends.lo[j] == ends.hi[j])
+            in_plane = _mm512_mask_add_epi32(in_plane, _mm512_cmp_ps_mask(candidates, lo, _CMP_EQ_OQ), in_plane, one);
+    }
+    const __mmask16 with_planars = _mm512_mask_cmpneq_epi32_mask(valid, in_plane, _mm512_setzero_si512());
+    // keys[h] for the candidates of half h (0: lower ends, 1: upper ends), planar triangles above;
+    // keys[2 + h] with them below, where there are any.
+    __m512i keys[4];
+    for (int h = 0; h < 2; ++h) {
+        // The masked forms: GCC 12 warns that the plain casts and extracts read an undefined vector.
+        auto half = [h](__m512i x) {
+            return h == 0 ? _mm512_maskz_extracti64x4_epi64(0xF, x, 0) : _mm512_maskz_extracti64x4_epi64(0xF, x, 1);
+        };
+        const __m256 position = _mm256_castsi256_ps(half(_mm512_castps_si512(candidates)));
+        const __m256i nb_h = half(nb), na_h = half(na), in_h = half(in_plane);
+        const auto valid_h = __mmask8(valid >> (8 * h)), planars_h = __mmask8(with_planars >> (8 * h));
+        keys[h] = detail::candidate_keys(s, valid_h, position, nb_h, _mm256_add_epi32(na_h, in_h));
+        keys[2 + h] = planars_h ? detail::candidate_keys(s, planars_h, position, _mm256_add_epi32(nb_h, in_h), na_h)
+                                : _mm512_set1_epi64(-1);
+    }
+    CountedPlane best;
+    best.key = detail::min_lane(_mm512_maskz_min_epu64(0xFF, _mm512_maskz_min_epu64(0xFF, keys[0], keys[1]),
+                                                       _mm512_maskz_min_epu64(0xFF, keys[2], keys[3])));
+    if (!best.found()) return best;
+    const __m512i key = _mm512_set1_epi64(std::int64_t(best.key));
+    // The winners: lower position first, then planar triangles above.
+    const __mmask16 above_winners =
+        __mmask16(_mm512_cmpeq_epu64_mask(keys[0], key) | unsigned(_mm512_cmpeq_epu64_mask(keys[1], key)) << 8);
+    const __mmask16 below_winners =
+        __mmask16(_mm512_cmpeq_epu64_mask(keys[2], key) | unsigned(_mm512_cmpeq_epu64_mask(keys[3], key)) << 8);
+    best.position = kInfinityPosition;
+    for (unsigned winners = above_winners | below_winners; winners != 0; winners &= winners - 1)
+        best.position = std::min(best.position, ends.lo[std::countr_zero(winners)]);  // lanes 8-15 read hi
+    best.position += 0.0f;
+    const __mmask16 at_position = _mm512_cmp_ps_mask(candidates, _mm512_set1_ps(best.position), _CMP_EQ_OQ);
+    best.planars_below = (above_winners & at_position) == 0;
+    return best;
+}
+#endif
+
+/// The plane sweep_events finds over these triangles' events, found without events for nodes of a
+/// few triangles: every box end is a candidate, and its counts are counted directly (below: the
+/// boxes starting before it, above: those ending after it, in the plane: the flat ones on it).
+/// The same candidate weights in the same double operations give the same bits; a tie goes to the
+/// lower position and, at one position, to the planar triangles above, as the sweep's event order
+/// has it. `count` triangles, each one's ends lo[i] and hi[i].
+inline CountedPlane count_planes(const BoxEnds<8>& ends, std::size_t count, const SweepSetup& s) {
+#if TRIDENT_KD_AVX512
+    return count_planes_avx512(ends, count, s);
+#else
+    return count_planes_scalar(ends, count, s);
 #endif
 }
 

@@ -218,8 +218,8 @@ TEST_CASE("the vector sweep picks the plane and the planar side of the scalar sw
         std::sort(events.begin(), events.end(), kd::event_before);
         const float lo = offset, hi = 12.0f + offset;
         const double across = 1.0 + double(round % 5), side = 0.5 + double(round % 7);
-        const kd::SweepSetup setup{std::int64_t(triangles), across - double(lo) * side, across + double(hi) * side,
-                                   side, lo, hi, 0.5};
+        const kd::SweepSetup setup{
+            std::int64_t(triangles), across - double(lo) * side, across + double(hi) * side, side, lo, hi, 0.5};
         const kd::SweepBest scalar = kd::sweep_events_scalar(events, setup);
         const kd::SweepBest chosen = kd::sweep_events(events, setup);
         CHECK(chosen.key == scalar.key);
@@ -227,4 +227,56 @@ TEST_CASE("the vector sweep picks the plane and the planar side of the scalar sw
         compared += scalar.found();
     }
     CHECK(compared > 2000);
+}
+
+TEST_CASE("counting at the box ends picks the event sweep's plane and planar side, bit for bit") {
+    // Small nodes (up to 8 triangles) on a coarse grid, so that ends coincide, planar triangles
+    // share planes and equal costs tie; cells on both sides of zero, and -0 among the ends.
+    std::mt19937 rng(11);
+    std::uniform_int_distribution<int> grid(0, 12);
+    std::uniform_int_distribution<int> length(1, 8);
+    int compared = 0, with_planars = 0;
+    for (int round = 0; round < 20000; ++round) {
+        const int triangles = length(rng);
+        const float offset = round % 3 == 0 ? -3.0f : 0.0f;
+        kd::BoxEnds<8> ends;
+        std::fill(std::begin(ends.lo), std::end(ends.lo), kInfinity);
+        std::fill(std::begin(ends.hi), std::end(ends.hi), -kInfinity);
+        std::vector<Event> events;
+        for (int i = 0; i < triangles; ++i) {
+            int lo = grid(rng), hi = grid(rng);
+            if (lo > hi) std::swap(lo, hi);
+            if (round % 2 == 0 && i % 3 == 0) hi = lo;  // planars
+            float a = float(lo) * 0.5f + offset, b = float(hi) * 0.5f + offset;
+            if (a == 0.0f && round % 4 == 0) a = -0.0f;
+            if (b == 0.0f && round % 4 == 0) b = -0.0f;
+            ends.lo[i] = a;
+            ends.hi[i] = b;
+            if (lo == hi) {
+                events.push_back(Event::make(a, std::uint32_t(i), EventType::planar));
+            } else {
+                events.push_back(Event::make(b, std::uint32_t(i), EventType::end));
+                events.push_back(Event::make(a, std::uint32_t(i), EventType::start));
+            }
+        }
+        std::sort(events.begin(), events.end(), kd::event_before);
+        const float lo = offset, hi = 6.0f + offset;
+        const double across = 1.0 + double(round % 5), side = 0.5 + double(round % 7);
+        const kd::SweepSetup setup{
+            std::int64_t(triangles), across - double(lo) * side, across + double(hi) * side, side, lo, hi, 0.5};
+        const kd::SweepBest swept = kd::sweep_events_scalar(events, setup);
+        for (const kd::CountedPlane counted : {kd::count_planes_scalar(ends, std::size_t(triangles), setup),
+                                               kd::count_planes(ends, std::size_t(triangles), setup)}) {
+            REQUIRE(counted.found() == swept.found());
+            if (!swept.found()) continue;
+            CHECK(counted.key == swept.key);
+            CHECK(std::bit_cast<std::uint32_t>(counted.position) ==
+                  std::bit_cast<std::uint32_t>(events[swept.tag >> 1].position));
+            CHECK(counted.planars_below == ((swept.tag & 1u) != 0));
+        }
+        compared += swept.found();
+        with_planars += swept.found() && (swept.tag & 1u) != 0;
+    }
+    CHECK(compared > 15000);
+    CHECK(with_planars > 100);  // the planar-below variant is exercised
 }
