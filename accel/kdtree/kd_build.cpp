@@ -295,7 +295,7 @@ private:
                     ThreadScratch& scratch) {
         Split split;
         if (node.size() > options_.leaf_triangles && depth < max_depth_) {
-            if (node.size() <= kSmallNode) {
+            if (node.size() <= options_.small_node_triangles) {
                 build_small(small_node_of(node), out, slot, depth, bad_refines);
                 return;
             }
@@ -426,13 +426,15 @@ private:
 
     // ---- Small nodes -----------------------------------------------------------------------------
 
-    /// A node of at most kSmallNode triangles is built, with its whole subtree, from its triangles'
-    /// boxes in fixed arrays instead of event lists: SAH by counting (kd::count_planes), the split
-    /// by comparing box ends with the plane. The event lists' upkeep (the classification, the
-    /// renumbering, the filtered copies, the scratch allocations) costs a node of a few triangles
-    /// far more than its plane search; these nodes are most of the tree. The boxes are the ones
-    /// its events describe, so the tree is the one the event lists give, node for node.
-    static constexpr std::size_t kSmallNode = 8;
+    /// A node of at most options_.small_node_triangles triangles is built, with its whole subtree,
+    /// from its triangles' boxes in fixed arrays instead of event lists: SAH by counting
+    /// (kd::count_planes), the split by comparing box ends with the plane. The event lists' upkeep
+    /// (the classification, the renumbering, the filtered copies, the scratch allocations) costs a
+    /// node of a few triangles far more than its plane search; these nodes are most of the tree.
+    /// The boxes are the ones its events describe, so the tree is the one the event lists give,
+    /// node for node. Up to 8 triangles, because their 16 box ends are one AVX-512 vector; 16
+    /// (two vectors) built Gallery slower (bench/RESULTS.md).
+    static constexpr std::size_t kSmallNode = KdTreeOptions::kMaxSmallNodeTriangles;
 
     struct SmallNode {
         Aabb cell;

@@ -22,6 +22,8 @@ void KdTreeOptions::validate() const {
     if (max_bad_refines < 1) fail("max_bad_refines must be >= 1");
     if (leaf_triangles < 1) fail("leaf_triangles must be >= 1");
     if (parallel_triangles < 2) fail("parallel_triangles must be >= 2");
+    if (small_node_triangles > kMaxSmallNodeTriangles)
+        fail("small_node_triangles must be at most " + std::to_string(kMaxSmallNodeTriangles));
 }
 
 int KdTreeOptions::depth_limit(std::size_t n) const {

@@ -28,6 +28,11 @@ struct KdTreeOptions {
     /// Nodes with at least this many triangles build their two children as parallel tasks. Only
     /// the speed depends on it: the tree is the same for every value and every thread count.
     std::size_t parallel_triangles = 2048;
+    /// Nodes with at most this many triangles (up to kMaxSmallNodeTriangles; 0: none) are built,
+    /// with their subtrees, from their triangles' box ends instead of event lists (kd_build.cpp).
+    /// Only the speed depends on it: the tree is the same for every value.
+    static constexpr std::size_t kMaxSmallNodeTriangles = 8;
+    std::size_t small_node_triangles = kMaxSmallNodeTriangles;
 
     /// Throws std::invalid_argument naming the first field out of range.
     void validate() const;

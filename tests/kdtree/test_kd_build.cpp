@@ -230,6 +230,28 @@ TEST_CASE("the tree is the same for one thread, all threads and any task size") 
     }
 }
 
+TEST_CASE("small nodes built from their box ends give the tree the event lists give") {
+    // Flat boxes (planar triangles on shared planes) and a soup; with and without perfect splits.
+    const Mesh mesh = random_soup(3000, 4, 0.1f);
+    const Mesh boxes = grid_boxes(300, 6, 24);
+    for (const Mesh* m : {&mesh, &boxes}) {
+        for (const bool perfect : {false, true}) {
+            CAPTURE(perfect);
+            KdTreeOptions options = with_perfect_splits(perfect);
+            options.small_node_triangles = 0;
+            const KdTree from_events = KdTree::build(*m, options);
+            for (const std::size_t small : {std::size_t(3), KdTreeOptions::kMaxSmallNodeTriangles}) {
+                CAPTURE(small);
+                options.small_node_triangles = small;
+                const KdTree from_boxes = KdTree::build(*m, options);
+                CHECK(std::ranges::equal(from_events.nodes(), from_boxes.nodes()));
+                CHECK(std::ranges::equal(from_events.leaf_triangles(), from_boxes.leaf_triangles()));
+            }
+            CHECK(from_events.nodes().size() > 1000);
+        }
+    }
+}
+
 TEST_CASE("an empty mesh builds an empty tree that every ray misses") {
     const KdTree tree = KdTree::build(Mesh{});
     CHECK(tree.nodes().empty());
@@ -333,7 +355,7 @@ TEST_CASE("the tree holds each finite triangle once, reordered, with its file in
         CHECK((held.a == original.a && held.b == original.b && held.c == original.c));
     }
     std::sort(ids.begin(), ids.end());
-    for (TriangleId id = 0; id < 400; ++id) CHECK(ids[id] == id);  // a permutation of the finite ones
+    for (TriangleId id = 0; id < 400; ++id) CHECK(ids[id] == id);                    // a permutation of the finite ones
     CHECK(!std::is_sorted(tree.triangle_ids().begin(), tree.triangle_ids().end()));  // random soup: reordered
 }
 
