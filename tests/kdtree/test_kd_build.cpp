@@ -410,6 +410,10 @@ TEST_CASE("options out of range are refused, naming the field") {
                          doctest::Contains("leaf_triangles"), std::invalid_argument);
     CHECK_THROWS_WITH_AS(KdTree::build(mesh, refused([](KdTreeOptions& o) { o.max_bad_refines = 0; })),
                          doctest::Contains("max_bad_refines"), std::invalid_argument);
+    CHECK_THROWS_WITH_AS(KdTree::build(mesh, refused([](KdTreeOptions& o) {
+                                           o.small_node_triangles = KdTreeOptions::kMaxSmallNodeTriangles + 1;
+                                       })),
+                         doctest::Contains("small_node_triangles"), std::invalid_argument);
 }
 
 TEST_CASE("a flat scene builds a real tree") {
