@@ -64,6 +64,7 @@ std::span<const Column> row_columns() {
          [](const BenchRow& r) { return error_cell(r, &ErrorFigures::max_relative_t_difference); }},
         {"ratio_to_embree", [](const BenchRow& r) { return optional_cell(r.ratio_to_embree); }},
         {"speedup_over_one_thread", [](const BenchRow& r) { return optional_cell(r.speedup_over_one_thread); }},
+        {"speedup_over_single_rays", [](const BenchRow& r) { return optional_cell(r.speedup_over_single_rays); }},
         {"sweep_parameter", [](const BenchRow& r) { return text_cell(r.sweep_parameter); }},
         {"sweep_value", [](const BenchRow& r) { return optional_cell(r.sweep_value); }},
         {"note", [](const BenchRow& r) { return text_cell(r.note); }},

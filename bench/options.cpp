@@ -22,7 +22,7 @@ struct Arguments {
     std::optional<std::string> sweep;
     std::string reference = "auto";
     long long width = 1920, height = 1080, repeats = kRecommendedRepeats;
-    bool quiet = false, scaling = false;
+    bool quiet = false, scaling = false, vs_single = false;
 };
 
 [[noreturn]] void refuse(const std::string& message) { throw std::invalid_argument(message); }
@@ -211,6 +211,7 @@ BenchOptions resolve(const Arguments& args, const CLI::App& app) {
     options.markdown = args.markdown;
     options.quiet = args.quiet;
     options.scaling = args.scaling;
+    options.vs_single = args.vs_single;
     return options;
 }
 
@@ -256,6 +257,9 @@ void add_options(CLI::App& app, Arguments& args) {
     app.add_flag("--scaling", args.scaling,
                  "rows at more than one thread also time each render on one thread right after it; their "
                  "speed-up over one thread is the median of the pairs' ratios");
+    app.add_flag("--vs-single", args.vs_single,
+                 "packet rows of shadow and diffuse rays also time the same rays as single rays right after each "
+                 "run; their speed-up over single rays is the median of the pairs' ratios");
 }
 
 }  // namespace

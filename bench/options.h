@@ -55,6 +55,9 @@ struct BenchOptions {
     bool quiet = false;
     /// --scaling: rows at more than one thread also time each render on one thread right after it.
     bool scaling = false;
+    /// --vs-single: packet rows of shadow and diffuse rays also time the same rays as single rays
+    /// right after each run.
+    bool vs_single = false;
     std::string command_line;
 };
 

@@ -49,6 +49,9 @@ struct BenchRow {
     /// --scaling, rows at more than one thread: the median over the timed runs of (the render's
     /// time on one thread, taken right after) / (its time on this row's threads).
     std::optional<double> speedup_over_one_thread;
+    /// --vs-single, packet rows of shadow and diffuse rays: the median over the timed runs of (the
+    /// same rays' time as single rays, taken right after) / (this row's time).
+    std::optional<double> speedup_over_single_rays;
 
     std::string sweep_parameter;
     std::optional<double> sweep_value;

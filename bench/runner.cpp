@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <span>
 
@@ -201,27 +202,35 @@ private:
     /// also times each render again on one thread right after it, into
     /// row.speedup_over_one_thread: the two times of a pair are seconds apart, so they drift
     /// together on a shared machine, where the rows at one thread ran minutes earlier.
+    /// With `single_rays` (--vs-single), each render is followed the same way by single_rays(),
+    /// the same rays traced one at a time, into row.speedup_over_single_rays.
     template <class TraceOnce>
-    void time_renders(const std::string& what, BenchRow& row, TraceOnce&& trace_once) {
-        auto timed = [&] {
+    void time_renders(const std::string& what, BenchRow& row, TraceOnce&& trace_once,
+                      const std::function<void()>& single_rays = {}) {
+        auto timed = [](auto&& trace) {
             const auto start = std::chrono::steady_clock::now();
-            trace_once();
+            trace();
             return ms_since(start);
         };
         const bool paired = options_.scaling && row.threads > 1;
-        std::vector<double> speedups;
+        std::vector<double> speedups, over_single;
         row.render_ms = measure_repeated(options_.repeats, [&](int run) {
             progress_.show(fmt::format("{}: render {}", what, run_label(run)));
-            const double ms = timed();
+            const double ms = timed(trace_once);
             if (paired) {
                 // The most restrictive of nested limits applies: one thread until this one ends.
                 const tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
-                const double one_thread_ms = timed();
+                const double one_thread_ms = timed(trace_once);
                 if (run >= kWarmupRuns) speedups.push_back(one_thread_ms / ms);
+            }
+            if (single_rays) {
+                const double single_ms = timed(single_rays);
+                if (run >= kWarmupRuns) over_single.push_back(single_ms / ms);
             }
             return ms;
         });
         if (paired) row.speedup_over_one_thread = summarize(std::move(speedups)).median;
+        if (single_rays) row.speedup_over_single_rays = summarize(std::move(over_single)).median;
     }
 
     /// The error against the reference, the hit buffer dump, and the row into the report.
@@ -304,8 +313,12 @@ private:
             row.build_ms = build;
             occluded_.resize(ray_sets_.shadow.rays.size());
             const StreamTraversal shadow{width, PacketGrouping::in_order};
-            time_renders(fmt::format("{} {} shadow", what, row.traversal), row,
-                         [&] { occlude_stream_parallel(accel, ray_sets_.shadow.rays, occluded_, shadow); });
+            std::function<void()> single_rays;
+            if (options_.vs_single && width != SimdWidth::scalar)
+                single_rays = [&] { occlude_stream_parallel(accel, ray_sets_.shadow.rays, occluded_, {}); };
+            time_renders(
+                fmt::format("{} {} shadow", what, row.traversal), row,
+                [&] { occlude_stream_parallel(accel, ray_sets_.shadow.rays, occluded_, shadow); }, single_rays);
             finish_secondary_row(std::move(row), RayKind::shadow, accel.stats().bytes);
         }
         if (asks(RayKind::diffuse)) {
@@ -315,8 +328,13 @@ private:
             // Each row times exactly its traversal; the renderer's pick per structure is incoherent_traversal().
             const StreamTraversal diffuse{width, PacketGrouping::by_octant};
             if (width != SimdWidth::scalar) row.note = fmt::format("packets {}", to_string(diffuse.grouping));
-            time_renders(fmt::format("{} {} diffuse", what, row.traversal), row,
-                         [&] { intersect_stream_parallel(accel, ray_sets_.diffuse.rays, secondary_hits_, diffuse); });
+            std::function<void()> single_rays;
+            if (options_.vs_single && width != SimdWidth::scalar)
+                single_rays = [&] { intersect_stream_parallel(accel, ray_sets_.diffuse.rays, secondary_hits_, {}); };
+            time_renders(
+                fmt::format("{} {} diffuse", what, row.traversal), row,
+                [&] { intersect_stream_parallel(accel, ray_sets_.diffuse.rays, secondary_hits_, diffuse); },
+                single_rays);
             finish_secondary_row(std::move(row), RayKind::diffuse, accel.stats().bytes);
         }
     }

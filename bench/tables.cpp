@@ -219,6 +219,9 @@ TextTable configurations_table(const BenchReport& report) {
     const bool scaling = std::any_of(report.rows.begin(), report.rows.end(),
                                      [](const BenchRow& r) { return r.speedup_over_one_thread.has_value(); });
     if (scaling) table.header.push_back("x 1 thread");
+    const bool vs_single = std::any_of(report.rows.begin(), report.rows.end(),
+                                       [](const BenchRow& r) { return r.speedup_over_single_rays.has_value(); });
+    if (vs_single) table.header.push_back("x single rays");
     auto count = [](const std::optional<std::size_t>& n) { return n ? fmt::format("{}", *n) : std::string(kNone); };
     for (const BenchRow& r : report.rows) {
         std::vector<std::string> cells = {r.scene,
@@ -239,6 +242,7 @@ TextTable configurations_table(const BenchReport& report) {
              r.error ? percent(r.error->hit_miss_share) : kNone, r.error ? percent(r.error->triangle_share) : kNone,
              r.error ? figure(r.error->max_relative_t_difference) : kNone, figure(r.ratio_to_embree)});
         if (scaling) cells.push_back(figure(r.speedup_over_one_thread));
+        if (vs_single) cells.push_back(figure(r.speedup_over_single_rays));
         table.rows.push_back(std::move(cells));
     }
     table.footnotes.push_back(
@@ -249,6 +253,10 @@ TextTable configurations_table(const BenchReport& report) {
         table.footnotes.push_back(
             "x 1 thread (--scaling): each timed render was run again on one thread right after it; the median "
             "of the pairs' time ratios.");
+    if (vs_single)
+        table.footnotes.push_back(
+            "x single rays (--vs-single): after each timed run of a packet row of shadow or diffuse rays, the same "
+            "rays were traced as single rays; the median of the pairs' time ratios.");
     return table;
 }
 

@@ -56,18 +56,20 @@ StreamTraversal incoherent_traversal(AccelKind accel, SimdWidth requested, std::
     // Above this size, octree octant packets narrower than 16 lanes lost to single rays (render_plan.h).
     constexpr std::size_t kOctreeNarrowPacketTriangles = 100000;
     if (requested == SimdWidth::scalar) return {};
+    const auto octant_packets = [](SimdWidth width) { return StreamTraversal{width, PacketGrouping::by_octant}; };
     switch (accel) {
         case AccelKind::bvh:
-            return {requested == SimdWidth::w16 && is_runnable(SimdWidth::w8) ? SimdWidth::w8 : requested,
-                    PacketGrouping::by_octant};
-        case AccelKind::octree:
-            if (requested != SimdWidth::w16 && triangles >= kOctreeNarrowPacketTriangles) return {};
-            break;
+            return octant_packets(is_runnable(SimdWidth::w8) ? SimdWidth::w8 : requested);
         case AccelKind::kdtree:
+            return octant_packets(is_runnable(SimdWidth::w16) ? SimdWidth::w16 : SimdWidth::w4);
+        case AccelKind::octree:
+            if (is_runnable(SimdWidth::w16)) return octant_packets(SimdWidth::w16);
+            if (triangles >= kOctreeNarrowPacketTriangles) return {};
+            break;
         case AccelKind::brute:
             break;
     }
-    return {requested, PacketGrouping::by_octant};
+    return octant_packets(requested);
 }
 
 RenderPlan make_render_plan(const Scene& scene, const RenderRequest& request) {

@@ -67,14 +67,15 @@ struct RenderPlan {
 /// fall sideways.
 PointLight default_light(const Aabb& box);
 
-/// Cosine-distributed rays are incoherent. Packets regrouped by direction octant against single
-/// rays, measured per structure (bench/README.md, "Diffuse rays"), this is the winner: the BVH
-/// takes octant packets of at most 8 lanes (16 lost on the larger scenes); the KD-tree octant
-/// packets of any width (8 lanes: medians of three runs 0.91-1.05x single rays on Room, Dragon,
-/// Gallery and Buddha, runs disagreeing by up to 30%; 1.2-2.2x on the smaller scenes); the octree
-/// 16-lane octant packets always (1.0-2.7x single rays on the study's scenes) and narrower ones
-/// only under 100k triangles (4 and 8 lanes lost by up to 15% above). Any choice gives the same
-/// answers, bit for bit.
+/// Cosine-distributed rays are incoherent. Whenever packets are asked for (any width but scalar),
+/// this is the traversal measured fastest per structure (bench/RESULTS.md, "Diffuse rays: which
+/// traversal", single rays against octant packets of every width timed in one process, 1 and 2
+/// threads, the study's scenes): the BVH takes 8 lanes where they run (4 lost on Gallery, 16
+/// gained nothing over 8; 8 lanes 1.11-2.14x single rays); the KD-tree 16 lanes where they run
+/// (1.08-2.39x), else 4 (8 lanes lost on Room and Buddha, by 1-6%); the octree 16 lanes where
+/// they run (1.05-2.65x), else single rays above 100k triangles (narrower packets lost by up to
+/// 17% on Sponza, Room and Gallery) and the asked width below. Any choice gives the same answers,
+/// bit for bit.
 StreamTraversal incoherent_traversal(AccelKind accel, SimdWidth requested, std::size_t triangles);
 
 RenderPlan make_render_plan(const Scene& scene, const RenderRequest& request);

@@ -115,22 +115,20 @@ TEST_CASE("plan: incoherent rays take the traversal measured best per structure,
     const auto is_single = [](const StreamTraversal& t) { return t.width == SimdWidth::scalar; };
     for (AccelKind accel : {AccelKind::bvh, AccelKind::kdtree, AccelKind::octree})
         CHECK(is_single(incoherent_traversal(accel, SimdWidth::scalar, 1000)));
-    if (is_runnable(SimdWidth::w8)) {
-        // Small scenes: octant packets for every structure.
-        for (AccelKind accel : {AccelKind::bvh, AccelKind::kdtree, AccelKind::octree}) {
-            const StreamTraversal t = incoherent_traversal(accel, SimdWidth::w8, 50000);
-            CHECK(t.width == SimdWidth::w8);
-            CHECK(t.grouping == PacketGrouping::by_octant);
+    const bool has16 = is_runnable(SimdWidth::w16);
+    for (SimdWidth asked : {SimdWidth::w4, SimdWidth::w8, SimdWidth::w16}) {
+        if (!is_runnable(asked)) continue;
+        CAPTURE(int(asked));
+        for (std::size_t triangles : {std::size_t(50000), std::size_t(1000000)}) {
+            const StreamTraversal bvh = incoherent_traversal(AccelKind::bvh, asked, triangles);
+            const StreamTraversal kd = incoherent_traversal(AccelKind::kdtree, asked, triangles);
+            const StreamTraversal octree = incoherent_traversal(AccelKind::octree, asked, triangles);
+            CHECK(bvh.width == (is_runnable(SimdWidth::w8) ? SimdWidth::w8 : asked));
+            CHECK(kd.width == (has16 ? SimdWidth::w16 : SimdWidth::w4));
+            // Narrow octree packets lose above 100k triangles: single rays there, unless 16 lanes run.
+            CHECK(octree.width == (has16 ? SimdWidth::w16 : triangles < 100000 ? asked : SimdWidth::scalar));
+            for (const StreamTraversal& t : {bvh, kd, octree})
+                if (!is_single(t)) CHECK(t.grouping == PacketGrouping::by_octant);
         }
-        // Narrow packets lose above 100k triangles on the octree only.
-        CHECK(is_single(incoherent_traversal(AccelKind::octree, SimdWidth::w8, 150000)));
-        CHECK(incoherent_traversal(AccelKind::kdtree, SimdWidth::w8, 1000000).width == SimdWidth::w8);
-        CHECK(incoherent_traversal(AccelKind::bvh, SimdWidth::w8, 1000000).width == SimdWidth::w8);
-    }
-    if (is_runnable(SimdWidth::w16)) {
-        // 16 lanes: the BVH narrows to 8; the KD-tree and the octree keep 16 at any size.
-        CHECK(incoherent_traversal(AccelKind::bvh, SimdWidth::w16, 1000).width == SimdWidth::w8);
-        for (AccelKind accel : {AccelKind::kdtree, AccelKind::octree})
-            CHECK(incoherent_traversal(accel, SimdWidth::w16, 1000000).width == SimdWidth::w16);
     }
 }
