@@ -58,6 +58,7 @@ const std::vector<std::string> kColumns = {"scene",
                                            "max_relative_t_difference",
                                            "ratio_to_embree",
                                            "speedup_over_one_thread",
+                                           "speedup_over_single_rays",
                                            "sweep_parameter",
                                            "sweep_value",
                                            "note"};
@@ -181,6 +182,32 @@ TEST_CASE("--scaling times each render of a row at more than one thread again on
     }
     CHECK(paired >= 1);  // our BVH at 2 threads, and Embree's rows where it is built
     CHECK(run.out.find("x 1 thread") != std::string::npos);
+}
+
+TEST_CASE("--vs-single times the packet rows of shadow and diffuse rays against single rays in pairs") {
+    const fs::path json_path = scratch_dir() / "vs_single.json";
+    const BenchRun run = run_bench(kTiny +
+                                   "--accel kdtree --simd scalar,simd4 --rays primary,shadow,diffuse --threads 1 "
+                                   "--embree none --vs-single --json " +
+                                   json_path.string());
+    INFO(run.err);
+    REQUIRE(run.exit_code == 0);
+    const auto json = nlohmann::json::parse(trident::testing::read_text(json_path));
+    std::size_t paired = 0;
+    for (const auto& row : json.at("rows")) {
+        CAPTURE(row.dump());
+        const auto& speedup = row.at("speedup_over_single_rays");
+        if (row.at("traversal") == "scalar" || row.at("rays") == "primary") {
+            CHECK(speedup.is_null());  // single rays themselves, or primary rays: nothing to pair with
+        } else {
+            REQUIRE(speedup.is_number());
+            CHECK(speedup.get<double>() > 0.0);
+            CHECK(std::isfinite(speedup.get<double>()));
+            ++paired;
+        }
+    }
+    CHECK(paired == 2);  // shadow and diffuse rays of 4-lane packets
+    CHECK(run.out.find("x single rays") != std::string::npos);
 }
 
 TEST_CASE("the CSV has the column header and as many fields on every row") {
