@@ -68,14 +68,14 @@ struct RenderPlan {
 PointLight default_light(const Aabb& box);
 
 /// Cosine-distributed rays are incoherent. Whenever packets are asked for (any width but scalar),
-/// this is the traversal measured fastest per structure (bench/RESULTS.md, "Diffuse rays: which
-/// traversal", single rays against octant packets of every width timed in one process, 1 and 2
-/// threads, the study's scenes): the BVH takes 8 lanes where they run (4 lost on Gallery, 16
-/// gained nothing over 8; 8 lanes 1.11-2.14x single rays); the KD-tree 16 lanes where they run
-/// (1.08-2.39x), else 4 (8 lanes lost on Room and Buddha, by 1-6%); the octree 16 lanes where
-/// they run (1.05-2.65x), else single rays above 100k triangles (narrower packets lost by up to
-/// 17% on Sponza, Room and Gallery) and the asked width below. Any choice gives the same answers,
-/// bit for bit.
+/// this is the traversal measured fastest per structure against single rays on the same rays
+/// (`trident-bench --rays diffuse --vs-single`, which times each packet run and a single-ray run
+/// in pairs; bench/RESULTS.md, "Diffuse rays: which traversal"): the BVH takes 8 lanes where they
+/// run (1.10-2.11x single rays on the study's scenes; 4 lanes lost on Gallery, 16 gained nothing
+/// over 8); the KD-tree 16 lanes where they run (1.07-2.42x), else 4 (8 lanes lost on Room and
+/// Buddha); the octree 16 lanes where they run (1.07-2.66x), else single rays above 100k triangles
+/// (narrower packets lost by up to 10% on Sponza, Room and Gallery) and the asked width below.
+/// Any choice gives the same answers, bit for bit.
 StreamTraversal incoherent_traversal(AccelKind accel, SimdWidth requested, std::size_t triangles);
 
 RenderPlan make_render_plan(const Scene& scene, const RenderRequest& request);
