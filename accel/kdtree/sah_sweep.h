@@ -135,11 +135,10 @@ inline std::uint64_t min_lane(__m512i x) {
 }
 inline __m256i last_lane(__m256i x) { return _mm256_permutexvar_epi32(_mm256_set1_epi32(7), x); }
 
-/// Candidates in the lanes of `consider`, weighted as detail::consider does (the same double
-/// operations in the same order, so the same bits), kept per lane when strictly better.
-inline void consider_lanes(const SweepSetup& s, __mmask8 consider, __m256 position, __m512d below_area,
-                           __m512d above_area, __m256i nb, __m256i na, __m512i tags, __m512i& best_key,
-                           __m512i& best_tag) {
+/// Eight candidates' keys as candidate_key computes them (the same double operations in the same
+/// order, so the same bits), all ones where a candidate makes no progress.
+inline __m512i lane_keys(const SweepSetup& s, __m256 position, __m512d below_area, __m512d above_area, __m256i nb,
+                         __m256i na) {
     const __m512d weighted = _mm512_add_pd(_mm512_mul_pd(below_area, _mm512_maskz_cvtepu32_pd(0xFF, nb)),
                                            _mm512_mul_pd(above_area, _mm512_maskz_cvtepu32_pd(0xFF, na)));
     const __mmask8 below_empty = _mm256_cmpeq_epi32_mask(nb, _mm256_setzero_si256());
@@ -148,7 +147,16 @@ inline void consider_lanes(const SweepSetup& s, __mmask8 consider, __m256 positi
                                  (above_empty & _mm256_cmp_ps_mask(position, _mm256_set1_ps(s.hi), _CMP_EQ_OQ));
     const __m512i key = _mm512_castpd_si512(
         _mm512_mask_mul_pd(weighted, below_empty | above_empty, weighted, _mm512_set1_pd(s.empty_scale)));
-    const __mmask8 better = _mm512_mask_cmplt_epu64_mask(consider & ~no_progress, key, best_key);
+    return _mm512_mask_mov_epi64(key, no_progress, _mm512_set1_epi64(-1));
+}
+
+/// Candidates in the lanes of `consider`, kept per lane when strictly better (a candidate making
+/// no progress has the key of none, so it never is).
+inline void consider_lanes(const SweepSetup& s, __mmask8 consider, __m256 position, __m512d below_area,
+                           __m512d above_area, __m256i nb, __m256i na, __m512i tags, __m512i& best_key,
+                           __m512i& best_tag) {
+    const __m512i key = lane_keys(s, position, below_area, above_area, nb, na);
+    const __mmask8 better = _mm512_mask_cmplt_epu64_mask(consider, key, best_key);
     best_key = _mm512_mask_mov_epi64(best_key, better, key);
     best_tag = _mm512_mask_mov_epi64(best_tag, better, tags);
 }
@@ -307,21 +315,12 @@ CountedPlane count_planes_scalar(const BoxEnds<Capacity>& ends, std::size_t coun
 #if TRIDENT_KD_AVX512
 namespace detail {
 
-/// Eight candidates' keys as candidate_key computes them (the same double operations in the same
-/// order), all ones where a candidate is not `valid` or makes no progress.
+/// Eight candidates' keys (lane_keys), all ones too where a candidate is not `valid`.
 inline __m512i candidate_keys(const SweepSetup& s, __mmask8 valid, __m256 position, __m256i nb, __m256i na) {
     const __m512d scaled = _mm512_mul_pd(_mm512_maskz_cvtps_pd(0xFF, position), _mm512_set1_pd(s.side));
     const __m512d below_area = _mm512_add_pd(_mm512_set1_pd(s.below_base), scaled);
     const __m512d above_area = _mm512_sub_pd(_mm512_set1_pd(s.above_base), scaled);
-    const __m512d weighted = _mm512_add_pd(_mm512_mul_pd(below_area, _mm512_maskz_cvtepi32_pd(0xFF, nb)),
-                                           _mm512_mul_pd(above_area, _mm512_maskz_cvtepi32_pd(0xFF, na)));
-    const __mmask8 below_empty = _mm256_cmpeq_epi32_mask(nb, _mm256_setzero_si256());
-    const __mmask8 above_empty = _mm256_cmpeq_epi32_mask(na, _mm256_setzero_si256());
-    const __mmask8 no_progress = (below_empty & _mm256_cmp_ps_mask(position, _mm256_set1_ps(s.lo), _CMP_EQ_OQ)) |
-                                 (above_empty & _mm256_cmp_ps_mask(position, _mm256_set1_ps(s.hi), _CMP_EQ_OQ));
-    const __m512i key = _mm512_castpd_si512(
-        _mm512_mask_mul_pd(weighted, below_empty | above_empty, weighted, _mm512_set1_pd(s.empty_scale)));
-    return _mm512_mask_mov_epi64(_mm512_set1_epi64(-1), valid & ~no_progress, key);
+    return _mm512_mask_mov_epi64(_mm512_set1_epi64(-1), valid, lane_keys(s, position, below_area, above_area, nb, na));
 }
 
 }  // namespace detail

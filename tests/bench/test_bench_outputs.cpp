@@ -160,54 +160,49 @@ TEST_CASE("a run writes JSON with machine info and one row per configuration car
     }
 }
 
-TEST_CASE("--scaling times each render of a row at more than one thread again on one thread") {
-    const fs::path json_path = scratch_dir() / "scaling.json";
-    const BenchRun run =
-        run_bench(kTiny + "--accel bvh --simd scalar --threads 1,2 --scaling --json " + json_path.string());
+/// Runs the bench with `options` and checks a paired column of its JSON rows: null where
+/// is_paired(row) is false, a positive finite ratio elsewhere. Returns how many rows are paired and
+/// the console output.
+template <class IsPaired>
+std::pair<std::size_t, std::string> paired_rows(const std::string& options, const std::string& column,
+                                                IsPaired is_paired) {
+    const fs::path json_path = scratch_dir() / (column + ".json");
+    const BenchRun run = run_bench(kTiny + options + " --json " + json_path.string());
     INFO(run.err);
     REQUIRE(run.exit_code == 0);
     const auto json = nlohmann::json::parse(trident::testing::read_text(json_path));
     std::size_t paired = 0;
     for (const auto& row : json.at("rows")) {
         CAPTURE(row.dump());
-        const auto& speedup = row.at("speedup_over_one_thread");
-        if (row.at("threads") == 1) {
-            CHECK(speedup.is_null());  // nothing to pair with
-        } else {
-            REQUIRE(speedup.is_number());
-            CHECK(speedup.get<double>() > 0.0);
-            CHECK(std::isfinite(speedup.get<double>()));
-            ++paired;
+        const auto& ratio = row.at(column);
+        if (!is_paired(row)) {
+            CHECK(ratio.is_null());  // nothing to pair with
+            continue;
         }
+        REQUIRE(ratio.is_number());
+        CHECK(ratio.get<double>() > 0.0);
+        CHECK(std::isfinite(ratio.get<double>()));
+        ++paired;
     }
+    return {paired, run.out};
+}
+
+TEST_CASE("--scaling times each render of a row at more than one thread again on one thread") {
+    const auto [paired, out] =
+        paired_rows("--accel bvh --simd scalar --threads 1,2 --scaling", "speedup_over_one_thread",
+                    [](const nlohmann::json& row) { return row.at("threads") != 1; });
     CHECK(paired >= 1);  // our BVH at 2 threads, and Embree's rows where it is built
-    CHECK(run.out.find("x 1 thread") != std::string::npos);
+    CHECK(out.find("x 1 thread") != std::string::npos);
 }
 
 TEST_CASE("--vs-single times the packet rows of shadow and diffuse rays against single rays in pairs") {
-    const fs::path json_path = scratch_dir() / "vs_single.json";
-    const BenchRun run = run_bench(kTiny +
-                                   "--accel kdtree --simd scalar,simd4 --rays primary,shadow,diffuse --threads 1 "
-                                   "--embree none --vs-single --json " +
-                                   json_path.string());
-    INFO(run.err);
-    REQUIRE(run.exit_code == 0);
-    const auto json = nlohmann::json::parse(trident::testing::read_text(json_path));
-    std::size_t paired = 0;
-    for (const auto& row : json.at("rows")) {
-        CAPTURE(row.dump());
-        const auto& speedup = row.at("speedup_over_single_rays");
-        if (row.at("traversal") == "scalar" || row.at("rays") == "primary") {
-            CHECK(speedup.is_null());  // single rays themselves, or primary rays: nothing to pair with
-        } else {
-            REQUIRE(speedup.is_number());
-            CHECK(speedup.get<double>() > 0.0);
-            CHECK(std::isfinite(speedup.get<double>()));
-            ++paired;
-        }
-    }
+    // Single rays themselves and primary rays have nothing to pair with.
+    const auto [paired, out] = paired_rows(
+        "--accel kdtree --simd scalar,simd4 --rays primary,shadow,diffuse --threads 1 --embree none --vs-single",
+        "speedup_over_single_rays",
+        [](const nlohmann::json& row) { return row.at("traversal") != "scalar" && row.at("rays") != "primary"; });
     CHECK(paired == 2);  // shadow and diffuse rays of 4-lane packets
-    CHECK(run.out.find("x single rays") != std::string::npos);
+    CHECK(out.find("x single rays") != std::string::npos);
 }
 
 TEST_CASE("the CSV has the column header and as many fields on every row") {

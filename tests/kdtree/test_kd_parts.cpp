@@ -159,17 +159,20 @@ namespace {
 
 /// The plane the sweep picks for triangles given as [lo, hi] intervals on the axis, in the cell
 /// [0, cell_hi] whose faces across the axis have half area 1 and sides scale by 1.
+/// Appends the events of triangle i, whose bounds on the axis are [lo, hi]: one planar event when
+/// they are flat, else an end and a start.
+void add_events(std::vector<Event>& events, float lo, float hi, std::uint32_t i) {
+    if (lo == hi) {
+        events.push_back(Event::make(lo, i, EventType::planar));
+    } else {
+        events.push_back(Event::make(hi, i, EventType::end));
+        events.push_back(Event::make(lo, i, EventType::start));
+    }
+}
+
 std::pair<float, bool> sweep_pick(const std::vector<std::pair<float, float>>& intervals, float cell_hi) {
     std::vector<Event> events;
-    for (std::uint32_t i = 0; i < intervals.size(); ++i) {
-        const auto [lo, hi] = intervals[i];
-        if (lo == hi) {
-            events.push_back(Event::make(lo, i, EventType::planar));
-        } else {
-            events.push_back(Event::make(hi, i, EventType::end));
-            events.push_back(Event::make(lo, i, EventType::start));
-        }
-    }
+    for (std::uint32_t i = 0; i < intervals.size(); ++i) add_events(events, intervals[i].first, intervals[i].second, i);
     std::sort(events.begin(), events.end(), kd::event_before);
     const kd::SweepSetup setup{std::int64_t(intervals.size()), 1.0, 1.0 + double(cell_hi), 1.0, 0.0f, cell_hi, 0.5};
     const kd::SweepBest best = kd::sweep_events(events, setup);
@@ -207,13 +210,7 @@ TEST_CASE("the vector sweep picks the plane and the planar side of the scalar sw
             int lo = grid(rng), hi = grid(rng);
             if (lo > hi) std::swap(lo, hi);
             if (round % 2 == 0 && i % 3 == 0) hi = lo;  // planars
-            const float a = float(lo) * 0.5f + offset, b = float(hi) * 0.5f + offset;
-            if (lo == hi) {
-                events.push_back(Event::make(a, std::uint32_t(i), EventType::planar));
-            } else {
-                events.push_back(Event::make(b, std::uint32_t(i), EventType::end));
-                events.push_back(Event::make(a, std::uint32_t(i), EventType::start));
-            }
+            add_events(events, float(lo) * 0.5f + offset, float(hi) * 0.5f + offset, std::uint32_t(i));
         }
         std::sort(events.begin(), events.end(), kd::event_before);
         const float lo = offset, hi = 12.0f + offset;
@@ -252,12 +249,7 @@ TEST_CASE("counting at the box ends picks the event sweep's plane and planar sid
             if (b == 0.0f && round % 4 == 0) b = -0.0f;
             ends.lo[i] = a;
             ends.hi[i] = b;
-            if (lo == hi) {
-                events.push_back(Event::make(a, std::uint32_t(i), EventType::planar));
-            } else {
-                events.push_back(Event::make(b, std::uint32_t(i), EventType::end));
-                events.push_back(Event::make(a, std::uint32_t(i), EventType::start));
-            }
+            add_events(events, a, b, std::uint32_t(i));
         }
         std::sort(events.begin(), events.end(), kd::event_before);
         const float lo = offset, hi = 6.0f + offset;
