@@ -369,9 +369,11 @@ inline CountedPlane count_planes_avx512(const BoxEnds<8>& ends, std::size_t coun
         __mmask16(_mm512_cmpeq_epu64_mask(keys[0], key) | unsigned(_mm512_cmpeq_epu64_mask(keys[1], key)) << 8);
     const __mmask16 below_winners =
         __mmask16(_mm512_cmpeq_epu64_mask(keys[2], key) | unsigned(_mm512_cmpeq_epu64_mask(keys[3], key)) << 8);
+    alignas(64) float positions[16];  // the candidates by lane: lo, then hi
+    _mm512_store_ps(positions, candidates);
     best.position = kInfinityPosition;
     for (unsigned winners = above_winners | below_winners; winners != 0; winners &= winners - 1)
-        best.position = std::min(best.position, ends.lo[std::countr_zero(winners)]);  // lanes 8-15 read hi
+        best.position = std::min(best.position, positions[std::countr_zero(winners)]);
     best.position += 0.0f;
     const __mmask16 at_position = _mm512_cmp_ps_mask(candidates, _mm512_set1_ps(best.position), _CMP_EQ_OQ);
     best.planars_below = (above_winners & at_position) == 0;
