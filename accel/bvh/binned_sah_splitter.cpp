@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
 #include <utility>
@@ -307,17 +308,30 @@ struct FineBins {
 /// is int(position) clamped to last_bin, so it is one of the two exactly when first_bin <=
 /// position < first_bin + 2, or position >= first_bin when first_bin + 1 is the last bin (which
 /// also holds the positions at its end): compared as floats, without converting every position.
+///
+/// Which references lie in the two bins is found without a branch, 64 at a time into a bit mask,
+/// and only the set bits are visited: a branch per reference mispredicted so often (a split's two
+/// bins hold a large share of a node, in no order) that the pass cost 16 cycles a reference on
+/// Buddha, about as much as binning the node.
 template <int Axis>
 void fill_fine_bins(const PrimitiveRef* refs, std::uint32_t begin, std::uint32_t end, float origin, float scale,
                     int first_bin, int last_bin, FineBins& fine) {
     const float first = float(first_bin), fine_scale = float(BinnedSahSplitter::kFineBinsPerBin);
     const float past = first_bin + 1 == last_bin ? kInfinity : float(first_bin + 2);
-    for (std::uint32_t i = begin; i != end; ++i) {
-        const float position = bin_position<Axis>(refs[i], origin, scale);
-        if (!(position >= first && position < past)) continue;
-        const int f = std::min(int((position - first) * fine_scale), FineBins::kCount - 1);
-        fine.boxes[f].add(load_lo_negated_hi(refs[i]));
-        ++fine.counts[f];
+    for (std::uint32_t block = begin; block < end; block += 64) {
+        const std::uint32_t block_end = std::min(end, block + 64);
+        std::uint64_t inside = 0;
+        for (std::uint32_t i = block; i != block_end; ++i) {
+            const float position = bin_position<Axis>(refs[i], origin, scale);
+            inside |= std::uint64_t((position >= first) & (position < past)) << (i - block);
+        }
+        for (; inside != 0; inside &= inside - 1) {
+            const std::uint32_t i = block + std::uint32_t(std::countr_zero(inside));
+            const float position = bin_position<Axis>(refs[i], origin, scale);
+            const int f = std::min(int((position - first) * fine_scale), FineBins::kCount - 1);
+            fine.boxes[f].add(load_lo_negated_hi(refs[i]));
+            ++fine.counts[f];
+        }
     }
 }
 
