@@ -23,8 +23,8 @@ struct RangeUnion {
 
 }  // namespace
 
-std::vector<PrimitiveRef> make_primitive_refs(const Mesh& mesh) {
-    std::vector<PrimitiveRef> refs(mesh.triangle_count());
+HugePageArray<PrimitiveRef> make_primitive_refs(const Mesh& mesh) {
+    HugePageArray<PrimitiveRef> refs(mesh.triangle_count());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, refs.size(), kGrain), [&](const auto& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
             const Aabb box = triangle_of(mesh, i).bounds();

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/aabb.h"
+#include "core/huge_page_array.h"
 #include "core/mesh.h"
 #include "core/ray.h"
 
@@ -49,7 +50,7 @@ struct ChildRanges {
 
 /// One reference per triangle in file order, computed in parallel. Box coordinates of -0 become
 /// +0, so min/max reductions give the same bits whatever order threads combine them in.
-std::vector<PrimitiveRef> make_primitive_refs(const Mesh& mesh);
+HugePageArray<PrimitiveRef> make_primitive_refs(const Mesh& mesh);
 
 /// The range covering all of `refs`, its unions reduced in parallel.
 BuildRange whole_range(std::span<const PrimitiveRef> refs);

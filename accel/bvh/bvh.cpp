@@ -20,8 +20,8 @@ namespace {
 constexpr std::size_t kGatherGrain = 1 << 14;
 
 template <class IdOf>
-std::vector<TriangleId> gather_ids(std::size_t count, IdOf id_of) {
-    std::vector<TriangleId> ids(count);
+HugePageArray<TriangleId> gather_ids(std::size_t count, IdOf id_of) {
+    HugePageArray<TriangleId> ids(count);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGatherGrain), [&](const auto& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) ids[i] = id_of(i);
     });
@@ -38,7 +38,7 @@ Bvh Bvh::build(const Mesh& mesh, const BvhOptions& options) {
 
     Bvh result;
     result.options_ = options;
-    std::vector<bvh::PrimitiveRef> refs = bvh::make_primitive_refs(mesh);
+    HugePageArray<bvh::PrimitiveRef> refs = bvh::make_primitive_refs(mesh);
     const bvh::BuildRange root = bvh::whole_range(refs);
     if (options.builder == BvhBuilder::binned_sah) {
         bvh::BinnedSahSplitter splitter(refs, options);

@@ -22,6 +22,7 @@
 #include "accel/bvh/bvh_options.h"
 #include "accel/bvh/bvh_packet.h"
 #include "accel/bvh/node_box_test.h"
+#include "core/huge_page_array.h"
 #include "core/intersect_triangle.h"
 #include "core/mesh.h"
 #include "simd/packet.h"
@@ -96,9 +97,9 @@ private:
             counters);
     }
 
-    std::vector<BvhNode> nodes_;
-    std::vector<Triangle> triangles_;
-    std::vector<TriangleId> triangle_ids_;
+    HugePageArray<BvhNode> nodes_;
+    HugePageArray<Triangle> triangles_;
+    HugePageArray<TriangleId> triangle_ids_;
     BvhOptions options_;
     AccelStats stats_;
 };

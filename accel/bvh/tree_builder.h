@@ -20,6 +20,7 @@
 #include "accel/bvh/build_primitives.h"
 #include "accel/bvh/bvh_node.h"
 #include "accel/bvh/bvh_options.h"
+#include "core/huge_page_array.h"
 
 namespace trident::bvh {
 
@@ -31,10 +32,10 @@ public:
     TreeBuilder(Splitter& splitter, const BvhOptions& options) : splitter_(splitter), options_(options) {}
 
     /// The flattened tree over `root` (no nodes for an empty range).
-    std::vector<BvhNode> build(const BuildRange& root) {
+    HugePageArray<BvhNode> build(const BuildRange& root) {
         if (root.count() == 0) return {};
         const std::unique_ptr<PendingNode> top = build_pending(root, 0);
-        std::vector<BvhNode> nodes(node_count(*top));
+        HugePageArray<BvhNode> nodes(node_count(*top));
         std::vector<SubtreeCopy> copies;
         place(*top, 0, nodes, copies);
         tbb::parallel_for(std::size_t(0), copies.size(), [&](std::size_t i) {
@@ -117,7 +118,7 @@ private:
 
     /// Writes the pending nodes depth-first from `offset` and queues the subtree copies; returns
     /// the offset after the last node of this subtree.
-    static std::uint32_t place(const PendingNode& pending, std::uint32_t offset, std::vector<BvhNode>& nodes,
+    static std::uint32_t place(const PendingNode& pending, std::uint32_t offset, HugePageArray<BvhNode>& nodes,
                                std::vector<SubtreeCopy>& copies) {
         if (!pending.left) {
             copies.push_back({&pending.subtree, offset});

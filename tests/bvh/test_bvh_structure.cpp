@@ -81,7 +81,7 @@ struct PeelOneSplitter {
     struct Split {
         float cost = 0.0f;
     };
-    std::vector<PrimitiveRef>& refs;
+    HugePageArray<PrimitiveRef>& refs;
 
     Split find_sah_split(const BuildRange&) const { return {}; }
     ChildRanges partition(const BuildRange& range, const Split&) { return split_at(range, range.begin + 1); }
@@ -104,11 +104,11 @@ TEST_CASE("the tree never gets deeper than the traversal stack, even when SAH pe
     for (std::size_t count : {40u, 1000u, 20000u}) {
         CAPTURE(count);
         const Mesh mesh = random_soup(count, 3, 0.1f);
-        std::vector<PrimitiveRef> refs = make_primitive_refs(mesh);
+        HugePageArray<PrimitiveRef> refs = make_primitive_refs(mesh);
         PeelOneSplitter splitter{refs};
         BvhOptions options;
         options.max_leaf_size = 1;
-        const std::vector<BvhNode> nodes = TreeBuilder(splitter, options).build(whole_range(refs));
+        const HugePageArray<BvhNode> nodes = TreeBuilder(splitter, options).build(whole_range(refs));
         const AccelStats stats = bvh_stats(nodes, count, options);
         CHECK(stats.leaves == count);
         CHECK(stats.references == count);
