@@ -3,16 +3,13 @@
 // and releases back to it once both children are built, so the millions of small event lists near
 // the leaves cost no heap traffic. Blocks are kept for reuse until the arena dies. One arena per
 // thread: a task that runs on a thread while another waits there is nested inside it and
-// releases its memory before returning, so the last-in-first-out order holds. Blocks of 2 MiB and
-// more ask for huge pages (core/huge_page_array.h).
+// releases its memory before returning, so the last-in-first-out order holds.
 #include <algorithm>
 #include <cstddef>
 #include <memory>
 #include <span>
 #include <type_traits>
 #include <vector>
-
-#include "core/huge_page_array.h"
 
 namespace trident::kd {
 
@@ -40,12 +37,8 @@ public:
 private:
     static constexpr std::size_t kAlign = 16, kMinBlockBytes = std::size_t(1) << 20;
 
-    struct FreeBlock {
-        std::size_t bytes;
-        void operator()(std::byte* data) const { HugePageAllocator<std::byte>().deallocate(data, bytes); }
-    };
     struct Block {
-        std::unique_ptr<std::byte[], FreeBlock> data;
+        std::unique_ptr<std::byte[]> data;
         std::size_t bytes;
     };
 
@@ -67,7 +60,7 @@ private:
         if (current_ >= blocks_.size()) {
             current_ = blocks_.size();
             const std::size_t size = std::max(kMinBlockBytes, 4 * bytes);  // room for what follows
-            blocks_.push_back({{HugePageAllocator<std::byte>().allocate(size), FreeBlock{size}}, size});
+            blocks_.push_back({std::make_unique_for_overwrite<std::byte[]>(size), size});
         }
         offset_ = bytes;
         return blocks_[current_].data.get();
