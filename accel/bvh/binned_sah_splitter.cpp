@@ -311,8 +311,8 @@ struct FineBins {
 ///
 /// Which references lie in the two bins is found 64 at a time into a bit mask, and only its set
 /// bits are visited. The two comparisons are combined with &: with &&, the compiler branched on
-/// the first, which holds for about half of a node's references in no order, and the pass cost
-/// more than binning the node (15 against 12 cycles a reference on Buddha).
+/// the first, whose outcome follows no pattern along a node's references, and the pass cost more
+/// than binning the node (15 against 12 cycles a reference on Buddha).
 template <int Axis>
 void fill_fine_bins(const PrimitiveRef* refs, std::uint32_t begin, std::uint32_t end, float origin, float scale,
                     int first_bin, int last_bin, FineBins& fine) {
