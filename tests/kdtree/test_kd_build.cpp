@@ -159,6 +159,24 @@ KdTreeOptions with_perfect_splits(bool perfect) {
     return options;
 }
 
+/// Calls f(mesh, options) for a soup of `soup_triangles` and a grid of flat boxes (planar triangles
+/// on shared planes), each without and with perfect splits.
+template <class F>
+void for_each_mesh_and_split_mode(std::size_t soup_triangles, F f) {
+    const Mesh soup = random_soup(soup_triangles, 4, 0.1f);
+    const Mesh boxes = grid_boxes(300, 6, 24);
+    for (const Mesh* mesh : {&soup, &boxes})
+        for (const bool perfect : {false, true}) {
+            CAPTURE(perfect);
+            f(*mesh, with_perfect_splits(perfect));
+        }
+}
+
+void check_same_tree(const KdTree& a, const KdTree& b) {
+    CHECK(std::ranges::equal(a.nodes(), b.nodes()));
+    CHECK(std::ranges::equal(a.leaf_triangles(), b.leaf_triangles()));
+}
+
 }  // namespace
 
 TEST_CASE("every triangle is referenced by every leaf whose cell it overlaps") {
@@ -209,47 +227,29 @@ TEST_CASE("perfect splits lower the SAH cost of a soup of large triangles") {
 }
 
 TEST_CASE("the tree is the same for one thread, all threads and any task size") {
-    const Mesh mesh = random_soup(6000, 4, 0.1f);
-    const Mesh boxes = grid_boxes(300, 6, 24);
-    for (const Mesh* m : {&mesh, &boxes}) {
-        for (const bool perfect : {false, true}) {
-            CAPTURE(perfect);
-            KdTreeOptions options = with_perfect_splits(perfect);
-            options.parallel_triangles = 64;
-            const KdTree all_threads = KdTree::build(*m, options);
-            KdTree one_thread;
-            tbb::task_arena(1).execute([&] { one_thread = KdTree::build(*m, options); });
-            options.parallel_triangles = std::numeric_limits<std::size_t>::max();
-            const KdTree sequential = KdTree::build(*m, options);
-            for (const KdTree* other : {&std::as_const(one_thread), &sequential}) {
-                CHECK(std::ranges::equal(all_threads.nodes(), other->nodes()));
-                CHECK(std::ranges::equal(all_threads.leaf_triangles(), other->leaf_triangles()));
-            }
-            CHECK(all_threads.nodes().size() > 100);
-        }
-    }
+    for_each_mesh_and_split_mode(6000, [](const Mesh& mesh, KdTreeOptions options) {
+        options.parallel_triangles = 64;
+        const KdTree all_threads = KdTree::build(mesh, options);
+        KdTree one_thread;
+        tbb::task_arena(1).execute([&] { one_thread = KdTree::build(mesh, options); });
+        options.parallel_triangles = std::numeric_limits<std::size_t>::max();
+        const KdTree sequential = KdTree::build(mesh, options);
+        for (const KdTree* other : {&std::as_const(one_thread), &sequential}) check_same_tree(all_threads, *other);
+        CHECK(all_threads.nodes().size() > 100);
+    });
 }
 
 TEST_CASE("small nodes built from their box ends give the tree the event lists give") {
-    // Flat boxes (planar triangles on shared planes) and a soup; with and without perfect splits.
-    const Mesh mesh = random_soup(3000, 4, 0.1f);
-    const Mesh boxes = grid_boxes(300, 6, 24);
-    for (const Mesh* m : {&mesh, &boxes}) {
-        for (const bool perfect : {false, true}) {
-            CAPTURE(perfect);
-            KdTreeOptions options = with_perfect_splits(perfect);
-            options.small_node_triangles = 0;
-            const KdTree from_events = KdTree::build(*m, options);
-            for (const std::size_t small : {std::size_t(3), KdTreeOptions::kMaxSmallNodeTriangles}) {
-                CAPTURE(small);
-                options.small_node_triangles = small;
-                const KdTree from_boxes = KdTree::build(*m, options);
-                CHECK(std::ranges::equal(from_events.nodes(), from_boxes.nodes()));
-                CHECK(std::ranges::equal(from_events.leaf_triangles(), from_boxes.leaf_triangles()));
-            }
-            CHECK(from_events.nodes().size() > 1000);
+    for_each_mesh_and_split_mode(3000, [](const Mesh& mesh, KdTreeOptions options) {
+        options.small_node_triangles = 0;
+        const KdTree from_events = KdTree::build(mesh, options);
+        for (const std::size_t small : {std::size_t(3), KdTreeOptions::kMaxSmallNodeTriangles}) {
+            CAPTURE(small);
+            options.small_node_triangles = small;
+            check_same_tree(from_events, KdTree::build(mesh, options));
         }
-    }
+        CHECK(from_events.nodes().size() > 1000);
+    });
 }
 
 TEST_CASE("an empty mesh builds an empty tree that every ray misses") {
