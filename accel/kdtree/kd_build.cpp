@@ -359,12 +359,15 @@ private:
         sizes[1] += tree.leaf_triangles.size();
     }
 
-    /// Writes `tree` into `out` with its root at out.nodes[slot] and its other nodes appended.
+    /// Writes `tree` into `out` with its root at out.nodes[slot] and its other nodes appended, each
+    /// interior node marked with which of its children are empty leaves.
     static void emit(const Subtree& tree, std::size_t slot, KdBuildResult& out) {
         if (tree.children[0]) {
             const KdNode& root = tree.nodes[0];
             const std::size_t first_child = out.nodes.size();
-            out.nodes[slot] = KdNode::interior(root.axis(), root.split(), first_child);
+            out.nodes[slot] =
+                KdNode::interior(root.axis(), root.split(), first_child, tree.children[0]->nodes[0].is_empty_leaf(),
+                                 tree.children[1]->nodes[0].is_empty_leaf());
             out.nodes.push_back(kPlaceholder);
             out.nodes.push_back(kPlaceholder);
             emit(*tree.children[0], first_child, out);
@@ -375,7 +378,9 @@ private:
         const std::size_t triangle_base = out.leaf_triangles.size();
         auto moved = [&](const KdNode& n) {
             return n.is_leaf() ? KdNode::leaf(n.triangle_count(), triangle_base + n.triangle_offset())
-                               : KdNode::interior(n.axis(), n.split(), node_base + n.below_child());
+                               : KdNode::interior(n.axis(), n.split(), node_base + n.below_child(),
+                                                  tree.nodes[n.below_child()].is_empty_leaf(),
+                                                  tree.nodes[n.above_child()].is_empty_leaf());
         };
         out.nodes[slot] = moved(tree.nodes[0]);
         for (std::size_t j = 1; j < tree.nodes.size(); ++j) out.nodes.push_back(moved(tree.nodes[j]));

@@ -147,15 +147,22 @@ typename RayPacket<Arch>::Mask traverse_kdtree_packet(const KdTreeView& tree, co
                 const Mask far_only = (!near_only) & (t_split < widened_down<Slabs>(t_min));
                 const Mask cut = !(near_only | far_only | (t_split != t_split));  // both, at t_split
                 const Mask to_near = lanes & !far_only, to_far = lanes & !near_only;
+                // An empty leaf is neither visited nor pushed, as in the single-ray walk.
+                const bool near_empty = below_first ? node.below_empty() : node.above_empty();
+                const bool far_empty = below_first ? node.above_empty() : node.below_empty();
                 if (xsimd::any(to_near)) {
-                    if (xsimd::any(to_far)) stack[pending++] = {far, to_far, xsimd::select(cut, t_split, t_min), t_max};
-                    index = near;
-                    lanes = to_near;
-                    t_max = xsimd::select(cut, t_split, t_max);
-                } else {  // every lane goes far only, over its whole interval
+                    if (!far_empty && xsimd::any(to_far))
+                        stack[pending++] = {far, to_far, xsimd::select(cut, t_split, t_min), t_max};
+                    if (!near_empty) {
+                        index = near;
+                        lanes = to_near;
+                        t_max = xsimd::select(cut, t_split, t_max);
+                        continue;
+                    }
+                } else if (!far_empty) {  // every lane goes far only, over its whole interval
                     index = far;
+                    continue;
                 }
-                continue;
             } else {
                 counters.visit_node();
                 const TriangleId* ids = tree.leaf_triangles.data() + node.triangle_offset();

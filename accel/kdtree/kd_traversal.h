@@ -81,10 +81,14 @@ T widened_down(T t) {
 /// hit was recorded in `best` (any-hit queries: at the first one). The whole traversal starts it
 /// at the root; packet traversals hand it the subtrees that only a few lanes still need, and a
 /// lane walked so from a cell visits what the whole traversal visits from there.
+///
+/// Flattened (every call in it inlined): since it learned to skip empty leaves, gcc otherwise
+/// leaves the triangle test out of line here, a call per triangle that cost up to 20%
+/// (bench/RESULTS.md).
 template <KdQuery Query, TriangleTest Test, SlabTest Slabs, class Counters>
-bool walk_kdtree(const KdTreeView& tree, const Ray& ray, const SlabRay& slab,
-                 const TriangleIntersector<Test>& intersector, std::uint32_t start, float t_min, float t_max, Hit& best,
-                 Counters& counters) {
+[[gnu::flatten]] bool walk_kdtree(const KdTreeView& tree, const Ray& ray, const SlabRay& slab,
+                                  const TriangleIntersector<Test>& intersector, std::uint32_t start, float t_min,
+                                  float t_max, Hit& best, Counters& counters) {
     using detail::widened_down;
     using detail::widened_up;
     struct Pending {
@@ -104,29 +108,44 @@ bool walk_kdtree(const KdTreeView& tree, const Ray& ray, const SlabRay& slab,
             const bool below_first = !std::signbit(ray.dir[axis]);
             const std::uint32_t near = below_first ? node.below_child() : node.above_child();
             const std::uint32_t far = below_first ? node.above_child() : node.below_child();
+            // An empty leaf is neither visited nor pushed: what follows it is what its visit
+            // would have led to.
+            const bool near_empty = below_first ? node.below_empty() : node.above_empty();
+            const bool far_empty = below_first ? node.above_empty() : node.below_empty();
             if (std::isnan(t_split)) {  // the ray lies in the plane
-                stack[pending++] = {far, t_min, t_max};
-                index = near;
+                if (!far_empty) stack[pending++] = {far, t_min, t_max};
+                if (!near_empty) {
+                    index = near;
+                    continue;
+                }
             } else if (t_split > widened_up<Slabs>(t_max)) {
-                index = near;
+                if (!near_empty) {
+                    index = near;
+                    continue;
+                }
             } else if (t_split < widened_down<Slabs>(t_min)) {
-                index = far;
+                if (!far_empty) {
+                    index = far;
+                    continue;
+                }
             } else {
-                stack[pending++] = {far, t_split, t_max};
-                index = near;
-                t_max = t_split;
+                if (!far_empty) stack[pending++] = {far, t_split, t_max};
+                if (!near_empty) {
+                    index = near;
+                    t_max = t_split;
+                    continue;
+                }
             }
-            continue;
-        }
-
-        const TriangleId* ids = tree.leaf_triangles.data() + node.triangle_offset();
-        for (std::uint32_t i = 0; i < node.triangle_count(); ++i) {
-            counters.test_triangle();
-            TriangleHit h;
-            if (intersector.intersect(tree.triangles[ids[i]], best.t, h)) {
-                best = {tree.triangle_ids[ids[i]], h.t, h.u, h.v};
-                found = true;
-                if constexpr (Query == KdQuery::any_hit) return true;
+        } else {
+            const TriangleId* ids = tree.leaf_triangles.data() + node.triangle_offset();
+            for (std::uint32_t i = 0; i < node.triangle_count(); ++i) {
+                counters.test_triangle();
+                TriangleHit h;
+                if (intersector.intersect(tree.triangles[ids[i]], best.t, h)) {
+                    best = {tree.triangle_ids[ids[i]], h.t, h.u, h.v};
+                    found = true;
+                    if constexpr (Query == KdQuery::any_hit) return true;
+                }
             }
         }
         // The next pending cell that may hold a closer hit.

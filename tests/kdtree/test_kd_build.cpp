@@ -61,7 +61,7 @@ std::vector<TriangleId> leaf_run(const KdTree& tree, const KdNode& leaf) {
 }
 
 /// The structural promises of the layout: children and runs in range, every node reached once,
-/// runs ascending, depth within the limit.
+/// runs ascending, depth within the limit, each interior node's marks of empty children true.
 void check_layout(const KdTree& tree, std::size_t triangle_count, int depth_limit) {
     const auto nodes = tree.nodes();
     std::vector<int> reached(nodes.size(), 0);
@@ -78,7 +78,9 @@ void check_layout(const KdTree& tree, std::size_t triangle_count, int depth_limi
             for (const TriangleId index : run) CHECK(index < tree.triangles().size());
             for (const TriangleId id : leaf_run(tree, node)) CHECK(id < triangle_count);
         } else {
-            CHECK(node.above_child() < nodes.size());
+            REQUIRE(node.above_child() < nodes.size());
+            CHECK(node.below_empty() == nodes[node.below_child()].is_empty_leaf());
+            CHECK(node.above_empty() == nodes[node.above_child()].is_empty_leaf());
             CHECK(node.split() >= c.cell.lo[node.axis()]);
             CHECK(node.split() <= c.cell.hi[node.axis()]);
         }

@@ -18,27 +18,35 @@ using namespace trident;
 using kd::Event;
 using kd::EventType;
 
-TEST_CASE("an interior node keeps its axis, split position and first child; a leaf its count and offset") {
-    for (int axis = 0; axis < 3; ++axis) {
-        const KdNode node = KdNode::interior(axis, -1.25f, KdNode::kMaxIndex - 1);
-        CHECK_FALSE(node.is_leaf());
-        CHECK(node.axis() == axis);
-        CHECK(node.split() == -1.25f);
-        CHECK(node.below_child() == KdNode::kMaxIndex - 1);
-        CHECK(node.above_child() == KdNode::kMaxIndex);
-    }
+TEST_CASE("an interior node keeps its axis, split, first child and empty children; a leaf its count and offset") {
+    for (int axis = 0; axis < 3; ++axis)
+        for (const bool below_empty : {false, true})
+            for (const bool above_empty : {false, true}) {
+                const KdNode node = KdNode::interior(axis, -1.25f, KdNode::kMaxIndex - 1, below_empty, above_empty);
+                CHECK_FALSE(node.is_leaf());
+                CHECK(node.axis() == axis);
+                CHECK(node.split() == -1.25f);
+                CHECK(node.below_child() == KdNode::kMaxIndex - 1);
+                CHECK(node.above_child() == KdNode::kMaxIndex);
+                CHECK(node.below_empty() == below_empty);
+                CHECK(node.above_empty() == above_empty);
+            }
     const KdNode leaf = KdNode::leaf(0xFFFFFFFFu, KdNode::kMaxIndex);
     CHECK(leaf.is_leaf());
+    CHECK_FALSE(leaf.is_empty_leaf());
     CHECK(leaf.triangle_count() == 0xFFFFFFFFu);
     CHECK(leaf.triangle_offset() == KdNode::kMaxIndex);
-    CHECK(KdNode::leaf(0, 0).is_leaf());
+    CHECK(KdNode::leaf(0, 0).is_empty_leaf());
+    CHECK_FALSE(KdNode::interior(0, 0.0f, 0).is_empty_leaf());
 }
 
-TEST_CASE("an index that does not fit in 30 bits is refused with a clear error") {
+TEST_CASE("an index that does not fit in 28 bits is refused with a clear error") {
+    CHECK(KdNode::kMaxIndex == (1u << 28) - 1);
     CHECK_THROWS_AS(KdNode::interior(0, 0.0f, std::size_t(KdNode::kMaxIndex) + 1), std::length_error);
+    CHECK_THROWS_AS(KdNode::leaf(1, std::size_t(KdNode::kMaxIndex) + 1), std::length_error);
     CHECK_THROWS_AS(KdNode::leaf(1, std::size_t(1) << 32), std::length_error);
-    CHECK_THROWS_WITH(KdNode::interior(2, 0.0f, std::size_t(1) << 31),
-                      doctest::Contains("exceeds the 1073741824 entries a KdNode can index"));
+    CHECK_THROWS_WITH(KdNode::interior(2, 0.0f, std::size_t(1) << 29),
+                      doctest::Contains("exceeds the 268435456 entries a KdNode can index"));
 }
 
 TEST_CASE("events sort by position, then ends before planars before starts, by radix or comparison") {
