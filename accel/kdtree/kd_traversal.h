@@ -28,6 +28,10 @@
 // still found. The cost is a rare extra cell. SlabTest::fast leaves the slack (and the scene-box
 // safeguards of core/slab_test.h) out, to measure what they cost.
 //
+// Empty leaves: an interior node marks its children that are empty leaves (kd_node.h), and the
+// walk neither fetches nor pushes them. Nothing else changes: the cells it then goes to, and the
+// tests on leaving a pending cell out, are those the visit of the empty leaf would have led to.
+//
 // Any-hit queries return at the first triangle hit in [ray.tmin, ray.tmax).
 #include <cmath>
 #include <cstdint>

@@ -20,7 +20,7 @@ namespace trident {
 class KdTree {
 public:
     /// Throws std::invalid_argument on options out of range, std::length_error when the tree
-    /// outgrows the 30-bit indices of KdNode.
+    /// outgrows the 28-bit indices of KdNode.
     static KdTree build(const Mesh& mesh, const KdTreeOptions& options = {});
 
     template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Counters>
