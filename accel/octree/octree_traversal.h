@@ -30,10 +30,14 @@ enum class OctreeQuery { closest_hit, any_hit };
 /// the ray), front to back, lowering `best` (its t is the triangle tests' limit). Returns true when
 /// the ray is finished: its query is answered, or a cell it would enter lies beyond its closest
 /// hit, and so does every cell after it. Packets walk subtrees of few lanes with it.
+///
+/// Flattened (every call in it inlined): gcc otherwise calls the triangle test out of line, once
+/// per triangle, and the walk took up to 1.8 times as long (bench/RESULTS.md).
 template <OctreeQuery Query, TriangleTest Test, SlabTest Slabs, class Counters>
-bool walk_octree_subtree(const OctreeView& tree, const OctreeWalkRay& walk,
-                         const TriangleIntersector<Test>& intersector, float tmin, const OctreeNode& root,
-                         const NodeSlabs& root_slabs, const OctreeCube& root_cell, Hit& best, Counters& counters) {
+[[gnu::flatten]] bool walk_octree_subtree(const OctreeView& tree, const OctreeWalkRay& walk,
+                                          const TriangleIntersector<Test>& intersector, float tmin,
+                                          const OctreeNode& root, const NodeSlabs& root_slabs,
+                                          const OctreeCube& root_cell, Hit& best, Counters& counters) {
     struct Frame {
         NodeSlabs slabs;
         Vec3f tm;
