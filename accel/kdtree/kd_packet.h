@@ -98,7 +98,7 @@ xsimd::batch_bool<float, Arch> walk_lanes_singly(const KdTreeView& tree, const R
 /// Returns the lanes that hit (for any-hit queries, the answer). Subtrees that at most
 /// SingleRayLanes lanes need go to the single-ray walk. Counters count per packet: a visit_node
 /// per node the packet (or an octant group of it) visits, a test_triangle per triangle it tests;
-/// single-ray walks count per ray. Flattened, as walk_kdtree(): 16-lane packets took up to 1.2
+/// single-ray walks count per ray. Flattened, as walk_kdtree(): 16-lane packets took up to 1.23
 /// times as long without.
 template <KdQuery Query, TriangleTest Test, SlabTest Slabs, int SingleRayLanes, class Arch, class Counters>
 [[gnu::flatten]] typename RayPacket<Arch>::Mask traverse_kdtree_packet(const KdTreeView& tree,

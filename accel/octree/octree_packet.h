@@ -113,7 +113,7 @@ xsimd::batch_bool<float, Arch> walk_lanes_singly(const OctreeView& tree, const R
 /// Traces the lanes of `group` through `tree`, recording their hits in `hits` (whose t is each
 /// lane's limit). Returns the lanes that found a hit. Closest hit or any hit, as
 /// traverse_octree(). Flattened, as walk_octree_subtree() and for the same reason: packets took
-/// up to 1.6 times as long with the triangle test out of line.
+/// up to 1.52 times as long with the triangle test out of line.
 template <OctreeQuery Query, TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
 [[gnu::flatten]] xsimd::batch_bool<float, Arch> traverse_octant_group(
     const OctreeView& tree, const RayPacket<Arch>& rays, const PacketRootEntry<Arch>& root,
