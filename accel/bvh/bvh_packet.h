@@ -29,6 +29,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "accel/bvh/bvh_node.h"
+#include "core/flatten.h"
 #include "core/intersect_triangle.h"
 #include "core/mesh.h"
 #include "core/ray.h"
@@ -100,9 +101,9 @@ xsimd::batch_bool<float, Arch> trace_lanes_singly(const RayPacket<Arch>& rays, s
 /// the single-ray traversal, took up to 1.37 times as long (bench/RESULTS.md).
 template <bool AnyHit, TriangleTest Test, SlabTest Slabs, int SingleRayLanes, class Arch, class TraceSubtree,
           class Counters>
-[[gnu::flatten]] typename RayPacket<Arch>::Mask traverse_packet(const TreeArrays& tree, const RayPacket<Arch>& rays,
-                                                                HitPacket<Arch>& hits, TraceSubtree&& trace_subtree,
-                                                                Counters& counters) {
+TRIDENT_FLATTEN typename RayPacket<Arch>::Mask traverse_packet(const TreeArrays& tree, const RayPacket<Arch>& rays,
+                                                               HitPacket<Arch>& hits, TraceSubtree&& trace_subtree,
+                                                               Counters& counters) {
     using Float = typename RayPacket<Arch>::Float;
     using Mask = typename RayPacket<Arch>::Mask;
     using L = Lanes<Float>;

@@ -26,6 +26,7 @@
 
 #include "accel/kdtree/kd_node.h"
 #include "accel/kdtree/kd_traversal.h"
+#include "core/flatten.h"
 #include "core/intersect_triangle.h"
 #include "core/ray.h"
 #include "core/slab_test.h"
@@ -101,9 +102,9 @@ xsimd::batch_bool<float, Arch> walk_lanes_singly(const KdTreeView& tree, const R
 /// single-ray walks count per ray. Flattened, as walk_kdtree(): 16-lane packets took up to 1.23
 /// times as long without.
 template <KdQuery Query, TriangleTest Test, SlabTest Slabs, int SingleRayLanes, class Arch, class Counters>
-[[gnu::flatten]] typename RayPacket<Arch>::Mask traverse_kdtree_packet(const KdTreeView& tree,
-                                                                       const RayPacket<Arch>& rays,
-                                                                       HitPacket<Arch>& hits, Counters& counters) {
+TRIDENT_FLATTEN typename RayPacket<Arch>::Mask traverse_kdtree_packet(const KdTreeView& tree,
+                                                                      const RayPacket<Arch>& rays,
+                                                                      HitPacket<Arch>& hits, Counters& counters) {
     using Float = typename RayPacket<Arch>::Float;
     using Mask = typename RayPacket<Arch>::Mask;
     using detail::widened_down;

@@ -39,6 +39,7 @@
 
 #include "accel/kdtree/kd_node.h"
 #include "core/aabb.h"
+#include "core/flatten.h"
 #include "core/intersect_triangle.h"
 #include "core/lanes.h"
 #include "core/mesh.h"
@@ -90,9 +91,9 @@ T widened_down(T t) {
 /// leaves the triangle test out of line here, a call per triangle that cost up to 20%
 /// (bench/RESULTS.md).
 template <KdQuery Query, TriangleTest Test, SlabTest Slabs, class Counters>
-[[gnu::flatten]] bool walk_kdtree(const KdTreeView& tree, const Ray& ray, const SlabRay& slab,
-                                  const TriangleIntersector<Test>& intersector, std::uint32_t start, float t_min,
-                                  float t_max, Hit& best, Counters& counters) {
+TRIDENT_FLATTEN bool walk_kdtree(const KdTreeView& tree, const Ray& ray, const SlabRay& slab,
+                                 const TriangleIntersector<Test>& intersector, std::uint32_t start, float t_min,
+                                 float t_max, Hit& best, Counters& counters) {
     using detail::widened_down;
     using detail::widened_up;
     struct Pending {

@@ -25,6 +25,7 @@
 #include "accel/octree/octree_node.h"
 #include "accel/octree/octree_packet_walk.h"
 #include "accel/octree/octree_traversal.h"
+#include "core/flatten.h"
 #include "simd/lanes.h"
 #include "simd/mask.h"
 #include "simd/packet.h"
@@ -115,7 +116,7 @@ xsimd::batch_bool<float, Arch> walk_lanes_singly(const OctreeView& tree, const R
 /// traverse_octree(). Flattened, as walk_octree_subtree() and for the same reason: packets took
 /// up to 1.52 times as long with the triangle test out of line.
 template <OctreeQuery Query, TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
-[[gnu::flatten]] xsimd::batch_bool<float, Arch> traverse_octant_group(
+TRIDENT_FLATTEN xsimd::batch_bool<float, Arch> traverse_octant_group(
     const OctreeView& tree, const RayPacket<Arch>& rays, const PacketRootEntry<Arch>& root,
     const TriangleIntersectorT<Test, xsimd::batch<float, Arch>>& intersector, const OctantGroup<Arch>& group,
     HitPacket<Arch>& hits, Counters& counters, int single_ray_lanes) {

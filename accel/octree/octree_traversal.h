@@ -10,6 +10,7 @@
 #include "accel/octree/octree_build.h"
 #include "accel/octree/octree_node.h"
 #include "accel/octree/octree_walk.h"
+#include "core/flatten.h"
 #include "core/intersect_triangle.h"
 
 namespace trident {
@@ -34,10 +35,10 @@ enum class OctreeQuery { closest_hit, any_hit };
 /// Flattened (every call in it inlined): gcc otherwise calls the triangle test out of line, once
 /// per triangle, and the walk took up to 1.56 times as long (bench/RESULTS.md).
 template <OctreeQuery Query, TriangleTest Test, SlabTest Slabs, class Counters>
-[[gnu::flatten]] bool walk_octree_subtree(const OctreeView& tree, const OctreeWalkRay& walk,
-                                          const TriangleIntersector<Test>& intersector, float tmin,
-                                          const OctreeNode& root, const NodeSlabs& root_slabs,
-                                          const OctreeCube& root_cell, Hit& best, Counters& counters) {
+TRIDENT_FLATTEN bool walk_octree_subtree(const OctreeView& tree, const OctreeWalkRay& walk,
+                                         const TriangleIntersector<Test>& intersector, float tmin,
+                                         const OctreeNode& root, const NodeSlabs& root_slabs,
+                                         const OctreeCube& root_cell, Hit& best, Counters& counters) {
     struct Frame {
         NodeSlabs slabs;
         Vec3f tm;
