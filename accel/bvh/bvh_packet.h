@@ -97,8 +97,8 @@ xsimd::batch_bool<float, Arch> trace_lanes_singly(const RayPacket<Arch>& rays, s
 /// becomes -inf, so no box admits it again) and return the lanes that hit; closest-hit queries
 /// return no lanes (their answer is `hits`). Counters count per packet: a visit_node per node box
 /// the packet tests, a test_triangle per triangle it tests (and per ray in single-ray subtrees).
-/// Flattened like the other structures' walks: without it, 8-lane packets, whose lone lanes go to
-/// the single-ray traversal, took up to 1.37 times as long (bench/RESULTS.md).
+/// Flattened like the other structures' walks: without it, 8-lane packets took up to 1.37 times
+/// as long (bench/RESULTS.md; 16-lane packets and single rays did not change).
 template <bool AnyHit, TriangleTest Test, SlabTest Slabs, int SingleRayLanes, class Arch, class TraceSubtree,
           class Counters>
 TRIDENT_FLATTEN typename RayPacket<Arch>::Mask traverse_packet(const TreeArrays& tree, const RayPacket<Arch>& rays,
