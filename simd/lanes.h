@@ -5,6 +5,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <xsimd/xsimd.hpp>
 
 #include "core/lanes.h"
@@ -56,9 +57,13 @@ struct Lanes<xsimd::batch<float, Arch>> {
     static Float from_array(const Array& lanes) { return Float::load_unaligned(lanes.data()); }
 
     /// Lanes<float>::AxisPermutation lane by lane: the index arithmetic becomes two masks naming
-    /// the major axis and one for the swap, and a component is picked with selects.
+    /// the major axis and one for the swap, and a component is picked with selects. When every
+    /// lane permutes alike (`uniform`, as in most coherent packets), kx, ky, kz are that
+    /// permutation, as Lanes<float> has them.
     struct AxisPermutation {
         Mask z_from_x, z_from_y, swap_xy;  // z from x, else from y, else from z
+        bool uniform = false;
+        int kx = 0, ky = 1, kz = 2;
 
         Vec3T<Float> apply(const Vec3T<Float>& v) const {
             const Float z = xsimd::select(z_from_x, v.x, xsimd::select(z_from_y, v.y, v.z));
@@ -74,7 +79,19 @@ struct Lanes<xsimd::batch<float, Arch>> {
         const Mask z_from_x = x_ge_y & (ax >= az);
         const Mask z_from_y = (!x_ge_y) & (ay >= az);
         const Float dir_z = xsimd::select(z_from_x, dir.x, xsimd::select(z_from_y, dir.y, dir.z));
-        return {z_from_x, z_from_y, dir_z < Float(0.0f)};
+        AxisPermutation out{z_from_x, z_from_y, dir_z < Float(0.0f)};
+        static_assert(width < 32);
+        constexpr std::uint32_t all = (1u << width) - 1u;
+        const std::uint32_t from_x = simd::mask_bits(out.z_from_x), from_y = simd::mask_bits(out.z_from_y),
+                            swap = simd::mask_bits(out.swap_xy);
+        out.uniform = (from_x == 0 || from_x == all) && (from_y == 0 || from_y == all) && (swap == 0 || swap == all);
+        if (out.uniform) {
+            out.kz = from_x ? 0 : (from_y ? 1 : 2);
+            out.kx = out.kz == 2 ? 0 : out.kz + 1;
+            out.ky = out.kx == 2 ? 0 : out.kx + 1;
+            if (swap) std::swap(out.kx, out.ky);
+        }
+        return out;
     }
 };
 
