@@ -58,8 +58,8 @@ struct Lanes<xsimd::batch<float, Arch>> {
 
     /// Lanes<float>::AxisPermutation lane by lane: the index arithmetic becomes two masks naming
     /// the major axis and one for the swap, and a component is picked with selects. When every
-    /// lane permutes alike (`uniform`, as in most coherent packets), kx, ky, kz are that
-    /// permutation, as Lanes<float> has them.
+    /// lane permutes alike (`uniform`: neighbouring pixels' rays, unless they straddle a change of
+    /// axis or sign), kx, ky, kz are that permutation, as Lanes<float> has them.
     struct AxisPermutation {
         Mask z_from_x, z_from_y, swap_xy;  // z from x, else from y, else from z
         bool uniform = false;
