@@ -66,6 +66,7 @@ struct Lanes<xsimd::batch<float, Arch>> {
         int kx = 0, ky = 1, kz = 2;
 
         Vec3T<Float> apply(const Vec3T<Float>& v) const {
+            if (uniform) return {v[kx], v[ky], v[kz]};  // whole vectors: no select per lane
             const Float z = xsimd::select(z_from_x, v.x, xsimd::select(z_from_y, v.y, v.z));
             const Float x = xsimd::select(z_from_x, v.y, xsimd::select(z_from_y, v.z, v.x));
             const Float y = xsimd::select(z_from_x, v.z, xsimd::select(z_from_y, v.x, v.y));

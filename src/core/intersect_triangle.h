@@ -112,7 +112,7 @@ public:
     using Mask = typename L::Mask;
 
     TriangleIntersectorT(const Vec3T<T>& origin, const Vec3T<T>& dir, T tmin)
-        : origin_(origin), tmin_(tmin), axes_(L::major_axis_to_z(dir)), permuted_origin_(axes_.apply(origin)) {
+        : origin_(origin), tmin_(tmin), axes_(L::major_axis_to_z(dir)) {
         const Vec3T<T> d = axes_.apply(dir);
         sx_ = d.x / d.z;
         sy_ = d.y / d.z;
@@ -122,35 +122,14 @@ public:
         : TriangleIntersectorT(ray.origin, ray.dir, ray.tmin) {}
 
     Mask intersect(const Triangle& tri, T t_limit, TriangleHitT<T>& out) const {
-        if constexpr (!std::same_as<T, float>) {
-            // Every lane permutes the axes alike: pick each corner's components once, as floats,
-            // instead of with selects in every lane. The same differences, so the same bits.
-            if (axes_.uniform) {
-                auto moved = [&](const Vec3f& p) {
-                    return Vec3T<T>{T(p[axes_.kx]) - permuted_origin_.x, T(p[axes_.ky]) - permuted_origin_.y,
-                                    T(p[axes_.kz]) - permuted_origin_.z};
-                };
-                return test(moved(tri.a), moved(tri.b), moved(tri.c), t_limit, out, [&] {
-                    return std::array{Vec3T<T>(tri.a), Vec3T<T>(tri.b), Vec3T<T>(tri.c)};
-                });
-            }
-        }
         return intersect(Vec3T<T>(tri.a), Vec3T<T>(tri.b), Vec3T<T>(tri.c), t_limit, out);
     }
 
     Mask intersect(const Vec3T<T>& tri_a, const Vec3T<T>& tri_b, const Vec3T<T>& tri_c, T t_limit,
                    TriangleHitT<T>& out) const {
-        return test(axes_.apply(tri_a - origin_), axes_.apply(tri_b - origin_), axes_.apply(tri_c - origin_), t_limit,
-                    out, [&] { return std::array{tri_a, tri_b, tri_c}; });
-    }
-
-private:
-    /// The test on the corners translated to the ray's origin and permuted (a, b, c); `corners`
-    /// gives the untouched ones, which only a hit needs.
-    template <class Corners>
-    Mask test(const Vec3T<T>& a, const Vec3T<T>& b, const Vec3T<T>& c, T t_limit, TriangleHitT<T>& out,
-              Corners corners) const {
         const T zero(0.0f);
+        const Vec3T<T> a = axes_.apply(tri_a - origin_), b = axes_.apply(tri_b - origin_),
+                       c = axes_.apply(tri_c - origin_);
         const T ax = a.x - sx_ * a.z, ay = a.y - sy_ * a.z;
         const T bx = b.x - sx_ * b.z, by = b.y - sy_ * b.z;
         const T cx = c.x - sx_ * c.z, cy = c.y - sy_ * c.z;
@@ -175,17 +154,16 @@ private:
         const T t = t_scaled * inv_det;
         hit = hit & (t >= tmin_) & (t < t_limit);
         if (L::none(hit)) return hit;
-        const auto [tri_a, tri_b, tri_c] = corners();
         hit = detail::drop_zero_area(hit, tri_a, tri_b, tri_c);
         if (L::none(hit)) return hit;
         out = {t, v * inv_det, w * inv_det};
         return hit;
     }
 
+private:
     Vec3T<T> origin_;
     T tmin_;
     typename L::AxisPermutation axes_;
-    Vec3T<T> permuted_origin_;  // axes_ applied to origin_
     T sx_, sy_, sz_;
 };
 
