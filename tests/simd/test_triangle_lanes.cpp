@@ -240,8 +240,8 @@ TEST_CASE("packet triangle tests equal the scalar tests bit for bit on rays aime
 }
 
 TEST_CASE("packets whose rays share the watertight test's axis permutation equal the scalar tests bit for bit") {
-    // Grouped by the permutation (as a coherent packet's rays are), the packets take the test's
-    // path that permutes each triangle once for all lanes; the random cases above mostly mix.
+    // Grouped by the permutation (as a coherent packet's rays are), the packets permute whole
+    // vectors (AxisPermutation::uniform) instead of lanes; the random cases above mostly mix.
     Case c = aimed_case(13);
     auto permutation = [](const Ray& ray) {
         const auto axes = Lanes<float>::major_axis_to_z(ray.dir);
