@@ -259,13 +259,13 @@ void EmbreeDevice::throw_on_error(const char* what) const {
         throw std::runtime_error(fmt::format("embree: {} failed (error {})", what, int(error)));
 }
 
-EmbreeScene::EmbreeScene(const EmbreeDevice& device, const Mesh& mesh) {
+EmbreeScene::EmbreeScene(const EmbreeDevice& device, const Mesh& mesh, EmbreeQuality quality) {
     const std::int64_t bytes_before = device.live_bytes();
     const auto start = std::chrono::steady_clock::now();
     scene_ = rtcNewScene(device.handle());
     device.throw_on_error("rtcNewScene");
     try {
-        build(device, mesh);
+        build(device, mesh, quality);
     } catch (...) {
         rtcReleaseScene(scene_);
         throw;
@@ -274,10 +274,13 @@ EmbreeScene::EmbreeScene(const EmbreeDevice& device, const Mesh& mesh) {
     bytes_ = std::size_t(std::max<std::int64_t>(0, device.live_bytes() - bytes_before));
 }
 
-void EmbreeScene::build(const EmbreeDevice& device, const Mesh& mesh) {
-    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+void EmbreeScene::build(const EmbreeDevice& device, const Mesh& mesh, EmbreeQuality quality) {
+    const RTCBuildQuality rtc_quality = quality == EmbreeQuality::low      ? RTC_BUILD_QUALITY_LOW
+                                        : quality == EmbreeQuality::medium ? RTC_BUILD_QUALITY_MEDIUM
+                                                                           : RTC_BUILD_QUALITY_HIGH;
+    rtcSetSceneBuildQuality(scene_, rtc_quality);
     RTCGeometry geometry = rtcNewGeometry(device.handle(), RTC_GEOMETRY_TYPE_TRIANGLE);
-    rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
+    rtcSetGeometryBuildQuality(geometry, rtc_quality);
     auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                                  3 * sizeof(float), mesh.vertex_count()));
     auto* indices = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(

@@ -36,9 +36,28 @@ inline std::string embree_occluded_name(int packet_width) { return "rtcOccluded"
 /// for simdN (one ray against one ray, packets against packets of the same width).
 inline std::string embree_counterpart(Traversal traversal) { return embree_call_name(rays_per_call(traversal)); }
 
-/// How every Embree scene is built and traced, stated in every output beside its figures.
-inline constexpr const char* kEmbreeSettings =
-    "RTC_BUILD_QUALITY_HIGH, default scene flags, coherent intersect context";
+/// Which of Embree's builders makes its BVH (`--embree-quality`). High, the default, is its best
+/// tree (SAH with spatial splits), the baseline our traversals are held against; medium is its
+/// binned SAH builder without spatial splits, the counterpart of our BVH's build; low is its Morton
+/// code builder.
+enum class EmbreeQuality { low, medium, high };
+
+/// "RTC_BUILD_QUALITY_HIGH" and so on: Embree's name for the setting.
+inline const char* to_string(EmbreeQuality quality) {
+    switch (quality) {
+        case EmbreeQuality::low:
+            return "RTC_BUILD_QUALITY_LOW";
+        case EmbreeQuality::medium:
+            return "RTC_BUILD_QUALITY_MEDIUM";
+        case EmbreeQuality::high:
+            break;
+    }
+    return "RTC_BUILD_QUALITY_HIGH";
+}
+/// How an Embree scene is built and traced, stated in every output beside its figures.
+inline std::string embree_settings(EmbreeQuality quality) {
+    return std::string(to_string(quality)) + ", default scene flags, coherent intersect context";
+}
 
 #if TRIDENT_HAVE_EMBREE
 
@@ -65,7 +84,7 @@ private:
 /// memory to a structure ready to trace (copying into Embree's buffers included).
 class EmbreeScene {
 public:
-    EmbreeScene(const EmbreeDevice& device, const Mesh& mesh);
+    EmbreeScene(const EmbreeDevice& device, const Mesh& mesh, EmbreeQuality quality = EmbreeQuality::high);
     ~EmbreeScene();
     EmbreeScene(const EmbreeScene&) = delete;
     EmbreeScene& operator=(const EmbreeScene&) = delete;
@@ -86,7 +105,7 @@ public:
     void intersect(std::span<const Ray> rays, std::span<Hit> hits) const;
 
 private:
-    void build(const EmbreeDevice& device, const Mesh& mesh);  // fills and commits scene_
+    void build(const EmbreeDevice& device, const Mesh& mesh, EmbreeQuality quality);  // fills and commits scene_
     RTCScene scene_ = nullptr;
     double build_ms_ = 0.0;
     std::size_t bytes_ = 0;

@@ -17,6 +17,7 @@ namespace {
 /// The options as typed; resolve() checks them and turns them into BenchOptions.
 struct Arguments {
     std::vector<std::string> scenes, only, accel, simd, threads, embree, triangle_tests, slabs;
+    std::optional<std::string> embree_quality;
     std::vector<std::string> rays;
     std::optional<std::filesystem::path> manifest, reference_hits, dump_hits, csv, json, markdown;
     std::optional<std::string> sweep;
@@ -135,6 +136,15 @@ std::vector<int> resolve_embree(const std::vector<std::string>& texts, bool give
     return widths;
 }
 
+EmbreeQuality resolve_embree_quality(const std::optional<std::string>& text) {
+    if (!text) return EmbreeQuality::high;
+    if (!kHaveEmbree) refuse("--embree-quality: this binary was built without Embree 3 (not found at configure time)");
+    if (*text == "low") return EmbreeQuality::low;
+    if (*text == "medium") return EmbreeQuality::medium;
+    if (*text == "high") return EmbreeQuality::high;
+    refuse(fmt::format("--embree-quality {}: expected low, medium or high", *text));
+}
+
 ReferenceChoice resolve_reference(const Arguments& args) {
     ReferenceChoice choice;
     if (args.reference_hits) {
@@ -200,6 +210,7 @@ BenchOptions resolve(const Arguments& args, const CLI::App& app) {
         refuse("--sweep times primary rays only: leave out --rays");
     options.threads = resolve_threads(args.threads);
     options.embree_packet_widths = resolve_embree(args.embree, app.count("--embree") > 0);
+    options.embree_quality = resolve_embree_quality(args.embree_quality);
     options.reference = resolve_reference(args);
 
     options.scene_specs = args.scenes;
@@ -247,6 +258,9 @@ void add_options(CLI::App& app, Arguments& args) {
                    "folder to write our hit buffers to (SCENE.STRUCTURE.TRAVERSAL.hits)");
     app.add_option("--embree", args.embree, "Embree rows, comma separated: 1,4,8,16 (rtcIntersect1/4/8/16) or none")
         ->delimiter(',');
+    app.add_option("--embree-quality", args.embree_quality,
+                   "how Embree's rows build their BVH: high (spatial splits, the default), medium (binned SAH) or "
+                   "low (Morton codes); the Embree reference is always built with high");
     app.add_option("--sweep", args.sweep,
                    "sweep one build parameter: octree-depth, bvh-buckets, bvh-cost, kd-cost, kd-empty-bonus, "
                    "kd-perfect-splits, kd-depth");

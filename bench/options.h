@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "accel/any_accel.h"
+#include "bench/embree_baseline.h"
 #include "bench/ray_sets.h"
 #include "bench/sweep.h"
 #include "bench/traversal.h"
@@ -47,6 +48,7 @@ struct BenchOptions {
     std::vector<RayKind> ray_kinds;            // --rays (default primary only)
     std::vector<int> threads;
     std::vector<int> embree_packet_widths;  // empty: no Embree rows
+    EmbreeQuality embree_quality = EmbreeQuality::high;  // --embree-quality, for Embree's rows (not its reference)
     std::uint32_t width = 1920, height = 1080;
     int repeats = 5;
     ReferenceChoice reference;

@@ -58,7 +58,7 @@ std::string describe_reference(const ReferenceChoice& choice) {
     switch (resolved.source) {
         case Source::embree:
 #if TRIDENT_HAVE_EMBREE
-            return fmt::format("embree rtcIntersect1 ({})", kEmbreeSettings);
+            return fmt::format("embree rtcIntersect1 ({})", embree_settings(EmbreeQuality::high));
 #else
             return "embree";
 #endif

@@ -136,7 +136,7 @@ private:
             report_.slabs += fmt::format("{}{}", report_.slabs.empty() ? "" : ", ", to_string(slabs));
         report_.reference = describe_reference(options_.reference);
 #if TRIDENT_HAVE_EMBREE
-        if (runs_embree(options_)) report_.embree_settings = kEmbreeSettings;
+        if (runs_embree(options_)) report_.embree_settings = embree_settings(options_.embree_quality);
 #endif
         if (options_.sweep) {
             report_.sweep_name = options_.sweep->name;
@@ -251,7 +251,7 @@ private:
         const Summary build = measure_repeated(options_.repeats, [&](int i) {
             progress_.show(fmt::format("{}: build {}", what, run_label(i)));
             scene.reset();
-            scene.emplace(device, run.loaded.scene.mesh);
+            scene.emplace(device, run.loaded.scene.mesh, options_.embree_quality);
             return scene->build_ms();
         });
         for (int width : options_.embree_packet_widths) {
@@ -261,7 +261,7 @@ private:
             time_renders(fmt::format("{} {}", what, row.traversal), row,
                          [&] { scene->trace(run.camera, width, hits_); });
             row.bytes = scene->bytes();
-            row.note = kEmbreeSettings;
+            row.note = embree_settings(options_.embree_quality);
             finish_row(run, std::move(row), fmt::format("embree.{}", embree_call_name(width)));
         }
         for (int width : options_.embree_packet_widths) {  // shadow rays: rtcOccluded1 / 4 / 8 / 16
@@ -299,7 +299,7 @@ private:
         row.ray_count = kind == RayKind::shadow ? ray_sets_.shadow_traced : ray_sets_.diffuse_traced;
         row.bytes = bytes;
         row.reference.clear();
-        if (row.is_embree()) row.note = kEmbreeSettings;
+        if (row.is_embree()) row.note = embree_settings(options_.embree_quality);
         report_.rows.push_back(std::move(row));
     }
 

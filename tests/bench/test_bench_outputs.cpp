@@ -7,8 +7,10 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "bench/embree_baseline.h"
 #include "bench/traversal.h"
 #include "bench_process.h"
 #include "render/hit_buffer.h"
@@ -259,6 +261,43 @@ TEST_CASE("Embree rows trace the same rays and agree with our brute force") {
         CHECK(row.at("ratio_to_embree").get<double>() > 0.0);
     }
     CHECK(o.run.out.find("Ours / Embree") != std::string::npos);
+}
+
+TEST_CASE("--embree-quality builds Embree's rows with the named builder and says so; the reference stays high") {
+    auto run_quality = [](const std::string& quality) {
+        const fs::path json_path = scratch_dir() / ("embree_quality_" + quality + ".json");
+        BenchRun run = run_bench("--only teapot --width 32 --height 18 --repeats 1 --quiet --accel bvh --simd scalar "
+                                 "--threads 1 --embree 1,8 --embree-quality " +
+                                 quality + " --json " + json_path.string());
+        return std::pair{run, run.exit_code == 0 ? nlohmann::json::parse(trident::testing::read_text(json_path))
+                                                 : nlohmann::json()};
+    };
+    const auto [medium_run, medium] = run_quality("medium");
+    if (!trident::bench::kHaveEmbree) {
+        MESSAGE("built without Embree: --embree-quality is refused");
+        CHECK(medium_run.exit_code != 0);
+        return;
+    }
+    INFO(medium_run.err);
+    REQUIRE(medium_run.exit_code == 0);
+    CHECK(medium.at("embree_settings").get<std::string>().starts_with("RTC_BUILD_QUALITY_MEDIUM"));
+    CHECK(medium.at("reference").get<std::string>().find("RTC_BUILD_QUALITY_HIGH") != std::string::npos);
+    CHECK(medium_run.out.find("RTC_BUILD_QUALITY_MEDIUM") != std::string::npos);
+    const auto rows = rows_of(medium, "embree");
+    REQUIRE(rows.size() == 2);
+    for (const auto& row : rows) {
+        CAPTURE(row.dump());
+        CHECK(row.at("note").get<std::string>().starts_with("RTC_BUILD_QUALITY_MEDIUM"));
+        CHECK(row.at("build_ms").get<double>() > 0.0);
+        // Another tree over the same triangles: the same hits as the high-quality reference.
+        CHECK(row.at("hit_miss_share").get<double>() < 0.01);
+        CHECK(row.at("triangle_share").get<double>() < 0.01);
+    }
+    // Another builder ran, not only another label: the trees differ in size.
+    const auto [high_run, high] = run_quality("high");
+    REQUIRE(high_run.exit_code == 0);
+    CHECK(rows_of(high, "embree").at(0).at("note").get<std::string>().starts_with("RTC_BUILD_QUALITY_HIGH"));
+    CHECK(rows_of(high, "embree").at(0).at("bytes").get<double>() != rows.at(0).at("bytes").get<double>());
 }
 
 TEST_CASE("a structure compared with itself has exactly zero error: --reference self and its own hit buffer") {

@@ -52,6 +52,7 @@ TEST_CASE("bad options give one line naming the option and a non-zero exit") {
         {"--repeats 0", "--repeats 0"},
         {"--threads 0", "--threads 0"},
         {"--embree 3", "--embree"},  // "--embree 3: expected ..." or, built without Embree, "--embree: ..."
+        {"--embree-quality best", "--embree-quality"},
         {"--reference nothing", "--reference nothing"},
         {"--reference-hits /no/such/hits", "/no/such/hits"},
         {"--sweep nothing", "--sweep nothing: unknown sweep"},
