@@ -23,6 +23,11 @@ $bench --scenes $scenes --accel bvh,kdtree,octree --simd scalar,simd8,simd16 --t
 $bench --scenes $scenes --accel bvh,kdtree,octree --simd scalar --threads 2 --scaling --embree 1 \
     --json $out/scaling.json --markdown $out/scaling.md --csv $out/scaling.csv
 
+# Our BVH against Embree's binned SAH builder (RTC_BUILD_QUALITY_MEDIUM, no spatial splits), one
+# thread: build time like for like (issue 3), and Embree's tracing on a tree without spatial splits.
+$bench --scenes $scenes --accel bvh --simd scalar,simd8,simd16 --threads 1 --embree 1,8,16 --embree-quality medium \
+    --reference self --json $out/embree_medium.json --markdown $out/embree_medium.md
+
 # Shadow and diffuse rays beside primary (issue 9), 2 threads.
 $bench --scenes $scenes --rays primary,shadow,diffuse --simd scalar,simd8,simd16 --threads 2 --embree 1,8,16 \
     --json $out/ray_kinds.json --markdown $out/ray_kinds.md --csv $out/ray_kinds.csv
