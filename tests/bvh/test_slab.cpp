@@ -1,9 +1,11 @@
 // The robust slab test of core/slab_test.h, one axis at a time (intersect_slabs) and three axes
-// at once (the BVH's NodeBoxTest): axis-parallel rays (the 0 * inf trap), closed boxes, and no
+// at once (the BVH's NodeBoxTest, one node or two side by side): axis-parallel rays (the 0 * inf trap), closed boxes, and no
 // gap between boxes that share a face.
 #include <doctest/doctest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <random>
 
 #include "accel/bvh/node_box_test.h"
@@ -16,13 +18,32 @@ namespace {
 
 const Aabb kUnitBox{{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}};
 
-/// Both forms of the test, which must agree exactly; t_entry from the scalar one.
+/// NodeBoxTest::enters_pair against enters() on each of the two nodes: the same decisions and,
+/// where a node is entered, the same entry distance bit for bit.
+void check_pair(const bvh::NodeBoxTest<>& test, const BvhNode& first, const BvhNode& second, const Ray& ray) {
+    float t_first = -1.0f, t_second = -1.0f, alone_first = -1.0f, alone_second = -1.0f;
+    const unsigned entered = test.enters_pair(first, second, ray.tmin, ray.tmax, t_first, t_second);
+    const bool first_alone = test.enters(first, ray.tmin, ray.tmax, alone_first);
+    const bool second_alone = test.enters(second, ray.tmin, ray.tmax, alone_second);
+    CHECK(bool(entered & 1u) == first_alone);
+    CHECK(bool(entered & 2u) == second_alone);
+    CHECK(entered <= 3u);
+    if (first_alone) CHECK(std::bit_cast<std::uint32_t>(t_first) == std::bit_cast<std::uint32_t>(alone_first));
+    if (second_alone) CHECK(std::bit_cast<std::uint32_t>(t_second) == std::bit_cast<std::uint32_t>(alone_second));
+}
+
+/// Every form of the test, which must agree exactly; t_entry from the scalar one. The pair form
+/// is checked with the box in either half beside the unit box.
 bool hits(const Ray& ray, const Aabb& box, float& t_entry) {
     const bool scalar = intersect_slabs(SlabRay(ray.origin, ray.dir), box.lo, box.hi, ray.tmin, ray.tmax, t_entry);
     float node_entry = -1.0f;
-    const bool node = bvh::NodeBoxTest(ray).enters(BvhNode::leaf(box, 0, 1), ray.tmin, ray.tmax, node_entry);
-    CHECK(node == scalar);
+    const bvh::NodeBoxTest<> test(ray);
+    const BvhNode node = BvhNode::leaf(box, 0, 1), unit = BvhNode::leaf(kUnitBox, 0, 1);
+    const bool node_hit = test.enters(node, ray.tmin, ray.tmax, node_entry);
+    CHECK(node_hit == scalar);
     if (scalar) CHECK(node_entry == t_entry);
+    check_pair(test, node, unit, ray);
+    check_pair(test, unit, node, ray);
     return scalar;
 }
 
