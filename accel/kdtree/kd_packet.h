@@ -132,6 +132,12 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask traverse_kdtree_packet(const KdTr
         std::uint32_t index = 0;
         Mask lanes = group.lanes;  // the lanes visiting `index`
         Float t_min = root_min, t_max = root_max;
+        // The interval's ends as the tests at each node compare them, kept beside the interval:
+        // going near, the lanes that cut take widened_up(t_split), computed while the node's
+        // compares run, so the chain from one node's decisions to the next node's compares holds a
+        // select and not the widening's three operations as well (8-lane packets took 0.96-1.01x
+        // the time). The same values as widening t_max at each node, lane by lane.
+        Float t_min_widened = widened_down<Slabs>(t_min), t_max_widened = widened_up<Slabs>(t_max);
         for (;;) {
             const std::uint32_t lane_bits = simd::mask_bits(lanes);
             const KdNode node = tree.nodes[index];
@@ -146,8 +152,8 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask traverse_kdtree_packet(const KdTr
                 const std::uint32_t near = below_first ? node.below_child() : node.above_child();
                 const std::uint32_t far = below_first ? node.above_child() : node.below_child();
                 // The single ray's if-chain, lane by lane: NaN (in the plane) fails both tests.
-                const Mask near_only = t_split > widened_up<Slabs>(t_max);
-                const Mask far_only = (!near_only) & (t_split < widened_down<Slabs>(t_min));
+                const Mask near_only = t_split > t_max_widened;
+                const Mask far_only = (!near_only) & (t_split < t_min_widened);
                 const Mask cut = !(near_only | far_only | (t_split != t_split));  // both, at t_split
                 const Mask to_near = lanes & !far_only, to_far = lanes & !near_only;
                 // An empty leaf is neither visited nor pushed, as in the single-ray walk.
@@ -160,6 +166,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask traverse_kdtree_packet(const KdTr
                         index = near;
                         lanes = to_near;
                         t_max = xsimd::select(cut, t_split, t_max);
+                        t_max_widened = xsimd::select(cut, widened_up<Slabs>(t_split), t_max_widened);
                         continue;
                     }
                 } else if (!far_empty) {  // every lane goes far only, over its whole interval
@@ -195,6 +202,8 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask traverse_kdtree_packet(const KdTr
                 t_min = cell.t_min;
                 t_max = cell.t_max;
             }
+            t_min_widened = widened_down<Slabs>(t_min);
+            t_max_widened = widened_up<Slabs>(t_max);
             if (!xsimd::any(lanes)) break;
         }
     }
