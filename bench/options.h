@@ -47,7 +47,7 @@ struct BenchOptions {
     std::vector<SlabTest> slab_tests;          // --slabs (default robust)
     std::vector<RayKind> ray_kinds;            // --rays (default primary only)
     std::vector<int> threads;
-    std::vector<int> embree_packet_widths;  // empty: no Embree rows
+    std::vector<int> embree_packet_widths;               // empty: no Embree rows
     EmbreeQuality embree_quality = EmbreeQuality::high;  // --embree-quality, for Embree's rows (not its reference)
     std::uint32_t width = 1920, height = 1080;
     int repeats = 5;

@@ -147,7 +147,7 @@ Hit Bvh::traverse(const Ray& ray, std::uint32_t subtree, Counters& counters) con
             std::uint32_t near = current + 1, far = node.right_child();
             if (dir_negative[node.split_axis()]) std::swap(near, far);
             float t_near, t_far;
-            counters.visit_node();
+            counters.visit_node();  // two boxes tested, in one step
             counters.visit_node();
             const unsigned entered = box_test.enters_pair(nodes_[near], nodes_[far], ray.tmin, t_limit, t_near, t_far);
             const bool hit_near = entered & 1u, hit_far = entered & 2u;

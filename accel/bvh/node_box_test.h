@@ -3,7 +3,10 @@
 // 4-wide vector: the robust slab formula of core/slab_test.h (detail::clip_to_ordered_slab,
 // written over a value type) applied to the three axes at once, then the lanes reduced. About a
 // third of the instructions of three scalar slabs, in the loop that dominates traversal. Slabs
-// picks the robust or the fast formula (core/slab_test.h).
+// picks the robust or the fast formula (core/slab_test.h). enters_pair tests a node's two
+// children at once in the two halves of an 8-wide vector (AVX, which every supported build has).
+#include <immintrin.h>
+
 #include <cstdint>
 #include <xsimd/xsimd.hpp>
 

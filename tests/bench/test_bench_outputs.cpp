@@ -266,11 +266,12 @@ TEST_CASE("Embree rows trace the same rays and agree with our brute force") {
 TEST_CASE("--embree-quality builds Embree's rows with the named builder and says so; the reference stays high") {
     auto run_quality = [](const std::string& quality) {
         const fs::path json_path = scratch_dir() / ("embree_quality_" + quality + ".json");
-        BenchRun run = run_bench("--only teapot --width 32 --height 18 --repeats 1 --quiet --accel bvh --simd scalar "
-                                 "--threads 1 --embree 1,8 --embree-quality " +
-                                 quality + " --json " + json_path.string());
-        return std::pair{run, run.exit_code == 0 ? nlohmann::json::parse(trident::testing::read_text(json_path))
-                                                 : nlohmann::json()};
+        BenchRun run = run_bench(
+            "--only teapot --width 32 --height 18 --repeats 1 --quiet --accel bvh --simd scalar "
+            "--threads 1 --embree 1,8 --embree-quality " +
+            quality + " --json " + json_path.string());
+        return std::pair{
+            run, run.exit_code == 0 ? nlohmann::json::parse(trident::testing::read_text(json_path)) : nlohmann::json()};
     };
     const auto [medium_run, medium] = run_quality("medium");
     if (!trident::bench::kHaveEmbree) {

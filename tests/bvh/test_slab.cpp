@@ -1,6 +1,6 @@
 // The robust slab test of core/slab_test.h, one axis at a time (intersect_slabs) and three axes
-// at once (the BVH's NodeBoxTest, one node or two side by side): axis-parallel rays (the 0 * inf trap), closed boxes, and no
-// gap between boxes that share a face.
+// at once (the BVH's NodeBoxTest, one node or two side by side): axis-parallel rays (the 0 * inf
+// trap), closed boxes, and no gap between boxes that share a face.
 #include <doctest/doctest.h>
 
 #include <bit>
