@@ -5,7 +5,6 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
-#include <utility>
 #include <xsimd/xsimd.hpp>
 
 #include "core/lanes.h"
@@ -87,10 +86,8 @@ struct Lanes<xsimd::batch<float, Arch>> {
                             swap = simd::mask_bits(out.swap_xy);
         out.uniform = (from_x == 0 || from_x == all) && (from_y == 0 || from_y == all) && (swap == 0 || swap == all);
         if (out.uniform) {
-            out.kz = from_x ? 0 : (from_y ? 1 : 2);
-            out.kx = out.kz == 2 ? 0 : out.kz + 1;
-            out.ky = out.kx == 2 ? 0 : out.kx + 1;
-            if (swap) std::swap(out.kx, out.ky);
+            const auto shared = Lanes<float>::permutation_to_z(from_x ? 0 : (from_y ? 1 : 2), swap != 0);
+            out.kx = shared.kx, out.ky = shared.ky, out.kz = shared.kz;
         }
         return out;
     }

@@ -118,36 +118,35 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask traverse_packet(const TreeArrays&
     // and combined at the end (max and min are exact, so the order does not matter; the serial
     // form made the traversal 1.4 times slower).
     //
-    // The robust test takes NodeBoxTest's form (node_box_test.h) lane by lane: each lane's near
-    // and far plane per axis picked once by its direction's sign, and a NaN distance (an origin
-    // on a plane the lane runs parallel to) dropped by the max or min with the lane's interval
-    // end. It makes the decisions and entry distances of the robust slab test (the equivalence
-    // tests/bvh/test_slab.cpp checks), without its compare and select per plane in the chain each
-    // node waits for: 8-lane packets take 0.90-0.96x the time (bench/RESULTS.md). The fast test
-    // is intersect_slabs bit for bit; only x is clipped to [tmin, limit] there, as on y and z the
-    // serial form's max with -inf and min with +inf return the other operand, NaN included.
-    const Float zero(0.0f);
-    const Mask planes_swapped[3] = {rays.slab.inv_dir.x < zero, rays.slab.inv_dir.y < zero, rays.slab.inv_dir.z < zero};
-    auto ordered_slab = [&](int axis, float lo, float hi, const Float& origin, const Float& inv_dir, Float& entry,
-                            Float& exit) {
-        const Float near_plane = L::select(planes_swapped[axis], Float(hi), Float(lo));
-        const Float far_plane = L::select(planes_swapped[axis], Float(lo), Float(hi));
-        entry = L::max((near_plane - origin) * inv_dir, rays.tmin);
-        exit = L::min((far_plane - origin) * inv_dir * Float(detail::kFarScale), hits.t);
+    // The robust test takes NodeBoxTest's form (node_box_test.h, detail::clip_to_ordered_slab)
+    // lane by lane: each lane's near and far plane per axis picked by RayPacket::dir_negative
+    // (1 / dir < 0, the sign NodeBoxTest orders by), and a NaN distance (an origin on a plane the
+    // lane runs parallel to) dropped by the max or min with the lane's interval end. It makes the
+    // decisions and entry distances of the robust slab test (the equivalence tests/bvh/test_slab.cpp
+    // checks), without its compare and select per plane in the chain each node waits for: 8-lane
+    // packets take 0.90-0.96x the time (bench/RESULTS.md). The fast test is intersect_slabs bit for
+    // bit; only x is clipped to [tmin, limit] there, as on y and z the serial form's max with -inf
+    // and min with +inf return the other operand, NaN included.
+    auto ordered_slab = [&](int axis, float lo, float hi, Float& entry, Float& exit) {
+        const auto& swapped = rays.dir_negative[axis];
+        entry = rays.tmin;
+        exit = hits.t;
+        detail::clip_to_ordered_slab(L::select(swapped, Float(hi), Float(lo)), L::select(swapped, Float(lo), Float(hi)),
+                                     rays.slab.origin[axis], rays.slab.inv_dir[axis], entry, exit);
     };
     auto enter = [&](std::uint32_t node, Float& t_entry) {
         counters.visit_node();
         const Aabb& box = tree.nodes[node].bounds;
-        const auto& slab = rays.slab;
         if constexpr (Slabs == SlabTest::robust) {
             Float entry_x, exit_x, entry_y, exit_y, entry_z, exit_z;
-            ordered_slab(0, box.lo.x, box.hi.x, slab.origin.x, slab.inv_dir.x, entry_x, exit_x);
-            ordered_slab(1, box.lo.y, box.hi.y, slab.origin.y, slab.inv_dir.y, entry_y, exit_y);
-            ordered_slab(2, box.lo.z, box.hi.z, slab.origin.z, slab.inv_dir.z, entry_z, exit_z);
+            ordered_slab(0, box.lo.x, box.hi.x, entry_x, exit_x);
+            ordered_slab(1, box.lo.y, box.hi.y, entry_y, exit_y);
+            ordered_slab(2, box.lo.z, box.hi.z, entry_z, exit_z);
             t_entry = L::max(entry_x, L::max(entry_y, entry_z));
             return t_entry <= L::min(exit_x, L::min(exit_y, exit_z));
         } else {
             using detail::slab_interval;
+            const auto& slab = rays.slab;
             const auto x = slab_interval<Slabs>(Float(box.lo.x), Float(box.hi.x), slab.origin.x, slab.inv_dir.x);
             const auto y = slab_interval<Slabs>(Float(box.lo.y), Float(box.hi.y), slab.origin.y, slab.inv_dir.y);
             const auto z = slab_interval<Slabs>(Float(box.lo.z), Float(box.hi.z), slab.origin.z, slab.inv_dir.z);
@@ -158,6 +157,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask traverse_packet(const TreeArrays&
     const auto triangle_test = packet_intersector<Test>(rays);
     // Per axis, the lanes the single-ray traversal sends to the right child first (dir < 0, so
     // unlike RayPacket::dir_negative not -0).
+    const Float zero(0.0f);
     const std::array<std::uint32_t, 3> negative_bits = {
         simd::mask_bits(rays.dir.x < zero), simd::mask_bits(rays.dir.y < zero), simd::mask_bits(rays.dir.z < zero)};
     // Lanes that do not enter a stacked node hold NaN, which no comparison admits.

@@ -202,9 +202,9 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask traverse_kdtree_packet(const KdTr
                 t_min = cell.t_min;
                 t_max = cell.t_max;
             }
+            if (!xsimd::any(lanes)) break;
             t_min_widened = widened_down<Slabs>(t_min);
             t_max_widened = widened_up<Slabs>(t_max);
-            if (!xsimd::any(lanes)) break;
         }
     }
     return found & live;

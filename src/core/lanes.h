@@ -31,7 +31,7 @@ struct Lanes<float> {
 
     static float select(bool mask, float if_true, float if_false) { return mask ? if_true : if_false; }
     static float abs(float x) { return std::abs(x); }
-    static float sqrt(float x) { return std::sqrt(x); }  // correctly rounded, as the batch's
+    static float sqrt(float x) { return std::sqrt(x); }           // correctly rounded, as the batch's
     static float min(float a, float b) { return a < b ? a : b; }  // minss: b when either is NaN
     static float max(float a, float b) { return a > b ? a : b; }  // maxss: b when either is NaN
     static bool any(bool mask) { return mask; }
@@ -50,8 +50,12 @@ struct Lanes<float> {
     };
     static AxisPermutation major_axis_to_z(const Vec3f& dir) {
         const int kz = largest_abs_axis(dir);
+        return permutation_to_z(kz, dir[kz] < 0.0f);
+    }
+    /// The permutation that makes axis kz the new z, x and y swapped when swap_xy.
+    static AxisPermutation permutation_to_z(int kz, bool swap_xy) {
         const int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
-        return dir[kz] < 0.0f ? AxisPermutation{ky, kx, kz} : AxisPermutation{kx, ky, kz};
+        return swap_xy ? AxisPermutation{ky, kx, kz} : AxisPermutation{kx, ky, kz};
     }
 };
 
