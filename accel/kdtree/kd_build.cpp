@@ -192,6 +192,93 @@ void filter_events(std::span<const Event> events, std::span<const Destination> d
 #endif
 }
 
+/// What distribute() found: the straddlers, and per child its one-sided triangles and how many of
+/// them are flat on each axis (one event there instead of two).
+struct Distributed {
+    std::size_t straddler_count = 0;
+    std::array<std::uint32_t, 2> kept{0, 0};
+    std::array<std::array<std::size_t, 3>, 2> flat{};
+};
+
+/// One pass over a node's triangles by side (kBelow, kAbove or kBoth): the one-sided ones appended
+/// in order to their child's prims and flat axes, each triangle's Destination (its index there << 2
+/// | 1 for the child that takes it, 0 for a straddler), the straddlers' local indices listed.
+/// child_prims[c] and child_flat[c] hold n + 1 entries and dest n + 16 (the vector form stores
+/// whole registers); entries past those kept and past n are scratch.
+Distributed distribute(std::span<const std::uint8_t> side, std::span<const std::uint32_t> prims,
+                       std::span<const std::uint8_t> flat_axes, std::array<std::uint32_t*, 2> child_prims,
+                       std::array<std::uint8_t*, 2> child_flat, Destination* dest, std::uint32_t* straddlers) {
+    Distributed out;
+    const std::size_t n = prims.size();
+#if TRIDENT_KD_AVX512
+    // Sixteen triangles at a time: each child's prims and flat axes compressed to the front of a
+    // register and stored under a mask of as many lanes (a compressing store to memory is slow on
+    // some CPUs). A triangle's index in its child is its rank among the lanes going there, which
+    // expanding 0, 1, 2, ... into those lanes gives. The zero-masked forms of some intrinsics,
+    // with every lane set, are the plain instructions: GCC 12 warns that the plain forms read an
+    // undefined vector.
+    static_assert(sizeof(Destination) == 8);
+    const __m512i iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    const __m512i first_pairs = _mm512_setr_epi32(0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23);
+    const __m512i last_pairs = _mm512_add_epi32(first_pairs, _mm512_set1_epi32(8));
+    const __m512i one = _mm512_set1_epi32(1);
+    auto store_first = [](auto* to, __mmask16 take, __m512i values) {
+        const auto count = unsigned(std::popcount(unsigned(take)));
+        const auto stored = __mmask16((1u << count) - 1u);
+        if constexpr (sizeof(*to) == 4)
+            _mm512_mask_storeu_epi32(to, stored, _mm512_maskz_compress_epi32(take, values));
+        else
+            _mm512_mask_cvtepi32_storeu_epi8(to, stored, _mm512_maskz_compress_epi32(take, values));
+        return count;
+    };
+    auto* const dest_words = reinterpret_cast<std::uint32_t*>(dest);
+    for (std::size_t i = 0; i < n; i += 16) {
+        const __mmask16 lanes = n - i >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << (n - i)) - 1u);
+        const __m512i s = _mm512_maskz_cvtepu8_epi32(0xFFFF, _mm_maskz_loadu_epi8(lanes, side.data() + i));
+        const __m512i flat = _mm512_maskz_cvtepu8_epi32(0xFFFF, _mm_maskz_loadu_epi8(lanes, flat_axes.data() + i));
+        const __m512i prim = _mm512_maskz_loadu_epi32(lanes, prims.data() + i);
+        const __mmask16 goes[2] = {_mm512_cmpeq_epi32_mask(s, _mm512_set1_epi32(kBelow)),
+                                   _mm512_cmpeq_epi32_mask(s, _mm512_set1_epi32(kAbove))};
+        const __mmask16 straddles = _mm512_mask_cmpeq_epi32_mask(lanes, s, _mm512_set1_epi32(kBoth));
+        out.straddler_count +=
+            store_first(straddlers + out.straddler_count, straddles, _mm512_add_epi32(iota, _mm512_set1_epi32(int(i))));
+        __m512i to[2];
+        for (int c = 0; c < 2; ++c) {
+            const std::uint32_t at = out.kept[c];
+            const __m512i index =
+                _mm512_add_epi32(_mm512_maskz_expand_epi32(goes[c], iota), _mm512_set1_epi32(int(at)));
+            to[c] = _mm512_maskz_or_epi32(goes[c], _mm512_maskz_slli_epi32(0xFFFF, index, 2), one);
+            store_first(child_flat[c] + at, goes[c], flat);
+            out.kept[c] += store_first(child_prims[c] + at, goes[c], prim);
+            for (int axis = 0; axis < 3; ++axis)
+                out.flat[c][axis] += unsigned(
+                    std::popcount(unsigned(_mm512_mask_test_epi32_mask(goes[c], flat, _mm512_set1_epi32(1 << axis)))));
+        }
+        _mm512_storeu_si512(dest_words + 2 * i, _mm512_permutex2var_epi32(to[0], first_pairs, to[1]));
+        _mm512_storeu_si512(dest_words + 2 * i + 16, _mm512_permutex2var_epi32(to[0], last_pairs, to[1]));
+    }
+#else
+    // Without branches (which side is unpredictable): each triangle is written to both children,
+    // and the next triangle overwrites it where it does not stay.
+    std::array<std::uint32_t, 2> at{0, 0};
+    for (std::size_t i = 0; i < n; ++i) {
+        const unsigned s = side[i], flat = flat_axes[i];
+        straddlers[out.straddler_count] = std::uint32_t(i);
+        out.straddler_count += s == kBoth;
+        const std::array<std::uint32_t, 2> goes{s == kBelow, s == kAbove};
+        for (int c = 0; c < 2; ++c) {
+            child_prims[c][at[c]] = prims[i];
+            child_flat[c][at[c]] = std::uint8_t(flat);
+            dest[i][c] = (at[c] << 2 | 1u) & -goes[c];
+            at[c] += goes[c];
+            for (int axis = 0; axis < 3; ++axis) out.flat[c][axis] += (flat >> axis) & goes[c];
+        }
+    }
+    out.kept = at;
+#endif
+    return out;
+}
+
 class SahBuilder {
 public:
     SahBuilder(std::span<const Triangle> triangles, const KdTreeOptions& options)
@@ -593,35 +680,53 @@ private:
         const bool perfect = options_.perfect_splits;
         const ScratchArena::Mark temp_mark = scratch.temp.mark();
 
-        // Classify: one pass over the split axis. side &= rule[type][where], where compares the
-        // event with the plane (<, ==, >); a triangle no event claims straddles it.
-        const std::span<std::uint8_t> side = scratch.temp.allocate<std::uint8_t>(n);
+        // Classify: one pass over the split axis's events, in three runs split at the plane's
+        // group: before it (events below the plane and ends on it), its planars, after it (starts
+        // on it and events above). A triangle that ends in the first run lies below (its start
+        // comes earlier and changes nothing), one that starts in the last lies above (its end
+        // comes later and changes nothing), a planar one goes where its run says, and one that
+        // does neither straddles. Each event stores its side, or writes to a sink past the
+        // triangles when it says nothing: stores alone, no read of the side before.
+        const std::span<const Event> split_events = node.events[k];
+        const auto first_planar = std::size_t(std::lower_bound(split_events.begin(), split_events.end(),
+                                                               Event::make(p, 0, EventType::planar), kd::event_before) -
+                                              split_events.begin());
+        const auto first_start =
+            std::size_t(std::lower_bound(split_events.begin() + std::ptrdiff_t(first_planar), split_events.end(),
+                                         Event::make(p, 0, EventType::start), kd::event_before) -
+                        split_events.begin());
+        const std::span<std::uint8_t> side = scratch.temp.allocate<std::uint8_t>(n + 1);
         std::fill(side.begin(), side.end(), kBoth);
-        const std::uint8_t in_plane = split.planars_below ? kBelow : kAbove;
-        const std::uint8_t rule[3][3] = {{kBelow, kBelow, kBoth}, {kBelow, in_plane, kAbove}, {kBoth, kAbove, kAbove}};
-        for (const Event& e : node.events[k]) {
-            const int where = int(e.position >= p) + int(e.position > p);
-            side[e.prim()] &= rule[e.prim_type & 3u][where];
+        {
+            std::uint8_t* const sides = side.data();
+            const Event* const events = split_events.data();
+            const auto sink = std::uint32_t(n);
+            constexpr auto kStart = std::uint32_t(EventType::start), kEnd = std::uint32_t(EventType::end);
+            for (std::size_t i = 0; i < first_planar; ++i)
+                sides[(events[i].prim_type & 3u) == kStart ? sink : events[i].prim()] = kBelow;
+            const std::uint8_t in_plane = split.planars_below ? kBelow : kAbove;
+            for (std::size_t i = first_planar; i < first_start; ++i) sides[events[i].prim()] = in_plane;
+            for (std::size_t i = first_start; i < split_events.size(); ++i)
+                sides[(events[i].prim_type & 3u) == kEnd ? sink : events[i].prim()] = kAbove;
         }
 
-        // One pass over the triangles: the straddlers, and per child the one-sided triangles and
-        // how many of them are flat on each axis (one event there instead of two).
-        const std::span<std::uint32_t> all_straddlers = scratch.temp.allocate<std::uint32_t>(n);
-        std::size_t straddler_count = 0;
-        std::array<std::size_t, 2> kept_count{0, 0};
-        std::array<std::size_t, 3> flat_kept{0, 0, 0}, flat_kept_below{0, 0, 0};
-        for (std::size_t i = 0; i < n; ++i) {
-            const unsigned s = side[i], flat = node.flat_axes[i];
-            all_straddlers[straddler_count] = std::uint32_t(i);
-            straddler_count += s == kBoth;
-            kept_count[0] += s == kBelow;
-            kept_count[1] += s == kAbove;
-            for (int axis = 0; axis < 3; ++axis) {
-                const unsigned flat_here = (flat >> axis) & 1u;
-                flat_kept[axis] += flat_here & unsigned(s != kBoth);
-                flat_kept_below[axis] += flat_here & unsigned(s == kBelow);
-            }
+        // One pass over the triangles: the straddlers listed, the one-sided triangles given to
+        // their child (with their new local indices in `dest`, the straddlers' set further down).
+        // Each child's arrays are allocated for all n triangles, since its size is known only
+        // after the pass.
+        std::array<std::span<std::uint32_t>, 2> child_prims;
+        std::array<std::span<std::uint8_t>, 2> child_flat;
+        for (int c = 0; c < 2; ++c) {
+            child_prims[c] = scratch.kept.allocate<std::uint32_t>(n + 1);
+            child_flat[c] = scratch.kept.allocate<std::uint8_t>(n + 1);
         }
+        const std::span<Destination> dest = scratch.temp.allocate<Destination>(n + 16);
+        const std::span<std::uint32_t> all_straddlers = scratch.temp.allocate<std::uint32_t>(n);
+        const Distributed one_sided =
+            distribute(side.first(n), node.prims, node.flat_axes, {child_prims[0].data(), child_prims[1].data()},
+                       {child_flat[0].data(), child_flat[1].data()}, dest.data(), all_straddlers.data());
+        const std::size_t straddler_count = one_sided.straddler_count;
+        const std::array<std::uint32_t, 2>& kept_count = one_sided.kept;
         const std::span<const std::uint32_t> straddlers = all_straddlers.first(straddler_count);
 
         // The straddlers' bounds in each child. Without perfect splits they are the node's bounds
@@ -670,7 +775,8 @@ private:
             for (int axis = 0; axis < 3; ++axis) {
                 // Flat straddlers: all flat triangles (one event each) less the one-sided ones.
                 const std::size_t flat_all = 2 * n - node.events[axis].size();
-                flat_fresh[0][axis] = flat_fresh[1][axis] = flat_all - flat_kept[axis];
+                flat_fresh[0][axis] = flat_fresh[1][axis] =
+                    flat_all - one_sided.flat[0][axis] - one_sided.flat[1][axis];
             }
         }
 
@@ -684,13 +790,11 @@ private:
             const std::size_t size = kept_count[c] + fresh_count[c];
             lists[c] = children_may_split && size > options_.leaf_triangles;
             child[c].cell = cells[c];
-            // One slot of slack: the branch-free pass below may write one past the triangles.
-            child[c].prims = scratch.kept.allocate<std::uint32_t>(size + 1).first(size);
-            child[c].flat_axes = scratch.kept.allocate<std::uint8_t>(size + 1).first(size);
+            child[c].prims = child_prims[c].first(size);
+            child[c].flat_axes = child_flat[c].first(size);
             if (!lists[c]) continue;
             for (int axis = 0; axis < 3; ++axis) {
-                const std::size_t flat = c == 0 ? flat_kept_below[axis] : flat_kept[axis] - flat_kept_below[axis];
-                total[c][axis] = 2 * size - flat - flat_fresh[c][axis];
+                total[c][axis] = 2 * size - one_sided.flat[c][axis] - flat_fresh[c][axis];
                 if (!perfect) continue;
                 fresh_size[c][axis] = 2 * fresh_count[c] - flat_fresh[c][axis];
                 fresh_total += fresh_size[c][axis];
@@ -702,34 +806,10 @@ private:
                 child[c].events[axis] = all.subspan(at, total[c][axis]);
         }
 
-        // New local indices: one-sided triangles keep their order, straddlers follow. dest[i][c]
+        // The straddlers follow the one-sided triangles in each child that takes them. dest[i][c]
         // is the index in child c << 2 | 1 when that child takes the triangle's events from the
         // node's lists, 0 when not (the other side, or fresh events).
-        // Without branches (which side is unpredictable): each triangle is written to both
-        // children, and the next triangle overwrites it where it does not stay.
-        const std::span<Destination> dest = scratch.temp.allocate<Destination>(n);
-        std::array<std::uint32_t, 2> next{0, 0};
-        {
-            std::uint32_t* const below_prims = child[0].prims.data();
-            std::uint32_t* const above_prims = child[1].prims.data();
-            std::uint8_t* const below_flat = child[0].flat_axes.data();
-            std::uint8_t* const above_flat = child[1].flat_axes.data();
-            const std::uint32_t* const prims = node.prims.data();
-            const std::uint8_t* const flat_axes = node.flat_axes.data();
-            std::uint32_t below = 0, above = 0;
-            for (std::size_t i = 0; i < n; ++i) {
-                const unsigned s = side[i];
-                const std::uint32_t goes_below = s == kBelow, goes_above = s == kAbove;
-                below_prims[below] = prims[i];
-                below_flat[below] = flat_axes[i];
-                above_prims[above] = prims[i];
-                above_flat[above] = flat_axes[i];
-                dest[i] = {(below << 2 | 1u) & -goes_below, (above << 2 | 1u) & -goes_above};
-                below += goes_below;
-                above += goes_above;
-            }
-            next = {below, above};
-        }
+        std::array<std::uint32_t, 2> next = kept_count;
         for (std::size_t j = 0; j < straddler_count; ++j) {
             const std::uint32_t i = straddlers[j];
             for (unsigned c = 0; c < 2; ++c) {
@@ -761,14 +841,6 @@ private:
             if (axis != k) {
                 filter_events<2>(events, dest, keep, out);
             } else {
-                const auto first_planar =
-                    std::size_t(std::lower_bound(events.begin(), events.end(), Event::make(p, 0, EventType::planar),
-                                                 kd::event_before) -
-                                events.begin());
-                const auto first_start =
-                    std::size_t(std::lower_bound(events.begin() + std::ptrdiff_t(first_planar), events.end(),
-                                                 Event::make(p, 0, EventType::start), kd::event_before) -
-                                events.begin());
                 // Below: events before the plane, ends on it; [straddlers' ends]; planars on it.
                 filter_events<0>(events.first(first_planar), dest, keep, out);
                 if (!perfect && lists[0])
