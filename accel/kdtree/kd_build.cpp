@@ -698,16 +698,23 @@ private:
         const std::span<std::uint8_t> side = scratch.temp.allocate<std::uint8_t>(n + 1);
         std::fill(side.begin(), side.end(), kBoth);
         {
+            // Local copies: the byte stores below may alias anything whose address is taken, and
+            // the loop bounds would be read again from memory at every step.
             std::uint8_t* const sides = side.data();
             const Event* const events = split_events.data();
+            const std::size_t planars_from = first_planar, starts_from = first_start, end = split_events.size();
             const auto sink = std::uint32_t(n);
-            constexpr auto kStart = std::uint32_t(EventType::start), kEnd = std::uint32_t(EventType::end);
-            for (std::size_t i = 0; i < first_planar; ++i)
-                sides[(events[i].prim_type & 3u) == kStart ? sink : events[i].prim()] = kBelow;
+            // The event's triangle, or the sink for an event of the silent type, without a branch:
+            // the types come mixed, and a branch on them is mispredicted.
+            auto target = [sink](const Event& e, EventType silent) {
+                const std::uint32_t prim = e.prim();
+                const std::uint32_t is_silent = -std::uint32_t((e.prim_type & 3u) == std::uint32_t(silent));
+                return prim ^ ((prim ^ sink) & is_silent);
+            };
+            for (std::size_t i = 0; i < planars_from; ++i) sides[target(events[i], EventType::start)] = kBelow;
             const std::uint8_t in_plane = split.planars_below ? kBelow : kAbove;
-            for (std::size_t i = first_planar; i < first_start; ++i) sides[events[i].prim()] = in_plane;
-            for (std::size_t i = first_start; i < split_events.size(); ++i)
-                sides[(events[i].prim_type & 3u) == kEnd ? sink : events[i].prim()] = kAbove;
+            for (std::size_t i = planars_from; i < starts_from; ++i) sides[events[i].prim()] = in_plane;
+            for (std::size_t i = starts_from; i < end; ++i) sides[target(events[i], EventType::end)] = kAbove;
         }
 
         // One pass over the triangles: the straddlers listed, the one-sided triangles given to
