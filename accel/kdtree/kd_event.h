@@ -11,8 +11,9 @@
 
 #include "accel/kdtree/radix_sort.h"
 
-// The builder's hot loops (the SAH sweep, the filtering of event lists) have AVX-512 forms that give
-// the same results as their scalar forms; the scalar forms serve where AVX-512 is not compiled in.
+// The builder's hot loops (the SAH sweep, the filtering of event lists, the handing of a node's
+// triangles to its children) have AVX-512 forms that give the same results as their scalar forms;
+// the scalar forms serve where AVX-512 (F, VL, DQ and BW, for byte masks) is not compiled in.
 #if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__AVX512DQ__) && defined(__AVX512BW__)
 #include <immintrin.h>
 #define TRIDENT_KD_AVX512 1
