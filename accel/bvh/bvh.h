@@ -115,11 +115,6 @@ Hit Bvh::traverse(const Ray& ray, std::uint32_t subtree, Counters& counters) con
     const bool dir_negative[3] = {ray.dir.x < 0.0f, ray.dir.y < 0.0f, ray.dir.z < 0.0f};
     float t_limit = ray.tmax;  // hits count strictly before it
 
-    auto enters = [&](std::uint32_t node, float& t_entry) {
-        counters.visit_node();
-        return box_test.enters(nodes_[node], ray.tmin, t_limit, t_entry);
-    };
-
     struct StackEntry {
         std::uint32_t node;
         float t_entry;
@@ -128,7 +123,8 @@ Hit Bvh::traverse(const Ray& ray, std::uint32_t subtree, Counters& counters) con
     std::uint32_t stack_size = 0;
 
     float t_root;
-    if (!enters(subtree, t_root)) return best;
+    counters.visit_node();
+    if (!box_test.enters(nodes_[subtree], ray.tmin, t_limit, t_root)) return best;
     std::uint32_t current = subtree;
     for (;;) {
         const BvhNode& node = nodes_[current];
