@@ -4,7 +4,8 @@
 // from the same operands and no ray slips between them; edge functions that round to exactly zero
 // are recomputed in double (section 4 of the paper). Möller–Trumbore (1997) is the faster,
 // non-watertight alternative kept for the speed-against-error comparison. Neither culls back faces.
-// A hit counts when ray.tmin <= t < t_limit.
+// A hit counts when ray.tmin <= t < t_limit; the watertight test decides a t within its rounding
+// of 0 again in double, so a ray leaving a surface does not hit the surface's coplanar neighbours.
 //
 // Each test is written once over a value type T: float for one ray (TriangleIntersector<Test>),
 // an xsimd batch for a packet with one ray per lane (simd/lanes.h supplies Lanes<batch>). A lane
@@ -19,6 +20,7 @@
 #include "core/lanes.h"
 #include "core/mesh.h"
 #include "core/ray.h"
+#include "core/rounding.h"
 
 namespace trident {
 
@@ -102,6 +104,41 @@ template <class T>
     return hit & (L::from_array(keep) != T(0.0f));
 }
 
+/// Of the `near_origin` lanes, those whose plane the ray really crosses before tmin, dropped from
+/// `hit`: the plane crossing recomputed in double from the unrounded corners, origin and
+/// direction (differences of floats are exact in double, and what follows rounds at 2^-53, so
+/// the sign comes out right unless the origin lies within about 2^-50 of the corners' scale from
+/// the plane, far inside any offset). Lane by lane and out of line, as it is rare: a hit gets
+/// here only when its t lies within rounding of the origin.
+template <class T>
+[[gnu::noinline]] typename Lanes<T>::Mask drop_crossings_before_tmin(typename Lanes<T>::Mask hit,
+                                                                     typename Lanes<T>::Mask near_origin,
+                                                                     const Vec3T<T>& a, const Vec3T<T>& b,
+                                                                     const Vec3T<T>& c, const Vec3T<T>& origin,
+                                                                     const Vec3T<T>& dir, const T& tmin) {
+    using L = Lanes<T>;
+    const auto lanes_of = [](const Vec3T<T>& v) {
+        return std::array<typename L::Array, 3>{L::to_array(v.x), L::to_array(v.y), L::to_array(v.z)};
+    };
+    const auto a_ = lanes_of(a), b_ = lanes_of(b), c_ = lanes_of(c), o_ = lanes_of(origin), d_ = lanes_of(dir);
+    const auto tmin_ = L::to_array(tmin);
+    const auto at = [](const std::array<typename L::Array, 3>& v, int i) {
+        return Vec3d(v[0][i], v[1][i], v[2][i]);
+    };
+    std::uint32_t before = 0;
+    for (std::uint32_t bits = L::bits(hit & near_origin); bits != 0; bits &= bits - 1) {
+        const int i = std::countr_zero(bits);
+        const Vec3d corner = at(a_, i);
+        const Vec3d normal = cross(at(b_, i) - corner, at(c_, i) - corner);
+        const double t = dot(normal, corner - at(o_, i)) / dot(normal, at(d_, i));
+        if (!(t >= double(tmin_[i]))) before |= 1u << i;
+    }
+    if (before == 0) return hit;
+    typename L::Array keep{};
+    for (std::size_t i = 0; i < L::width; ++i) keep[i] = (before >> i) & 1u ? 0.0f : 1.0f;
+    return hit & (L::from_array(keep) != T(0.0f));
+}
+
 }  // namespace detail
 
 template <class T>
@@ -112,7 +149,7 @@ public:
     using Mask = typename L::Mask;
 
     TriangleIntersectorT(const Vec3T<T>& origin, const Vec3T<T>& dir, T tmin)
-        : origin_(origin), tmin_(tmin), axes_(L::major_axis_to_z(dir)) {
+        : origin_(origin), dir_(dir), tmin_(tmin), axes_(L::major_axis_to_z(dir)) {
         const Vec3T<T> d = axes_.apply(dir);
         sx_ = d.x / d.z;
         sy_ = d.y / d.z;
@@ -154,6 +191,11 @@ public:
         const T t = t_scaled * inv_det;
         hit = hit & (t >= tmin_) & (t < t_limit);
         if (L::none(hit)) return hit;
+        const Mask near_origin = t <= t_rounding_bound(ax, ay, bx, by, cx, cy, a.z, b.z, c.z, u, v, w, inv_det);
+        if (L::any(hit & near_origin)) {
+            hit = detail::drop_crossings_before_tmin(hit, near_origin, tri_a, tri_b, tri_c, origin_, dir_, tmin_);
+            if (L::none(hit)) return hit;
+        }
         hit = detail::drop_zero_area(hit, tri_a, tri_b, tri_c);
         if (L::none(hit)) return hit;
         out = {t, v * inv_det, w * inv_det};
@@ -161,7 +203,32 @@ public:
     }
 
 private:
-    Vec3T<T> origin_;
+    /// A bound on the rounding error of t, after the analysis of pbrt-v3 (section 3.9.6) for this
+    /// same test, from the magnitudes of the sheared corners (x, y and the unscaled z, in units of
+    /// length) and of the edge functions. pbrt adds z to x and y after scaling it by 1 / dir.z,
+    /// which assumes a unit direction; here z stays in units of length until t is formed, so the
+    /// bound holds for any |dir| (the stress cases trace rays of length 1e-4 at meshes of size
+    /// 1e-4). A hit whose t lies within the bound of 0 may really cross the plane behind the origin:
+    /// from a point offset off a surface (core/ray_offset.h), the surface's coplanar neighbours,
+    /// far larger than the offset, come out hit at t near 0 and would shadow it. Such hits are
+    /// decided again in double (detail::drop_crossings_before_tmin) rather than dropped, since
+    /// the bound also exceeds t on slivers far from the origin (det near 0), which must stay hit
+    /// for the mesh to stay watertight. Only lanes that hit get here.
+    T t_rounding_bound(const T& ax, const T& ay, const T& bx, const T& by, const T& cx, const T& cy, const T& az,
+                       const T& bz, const T& cz, const T& u, const T& v, const T& w, const T& inv_det) const {
+        const auto largest = [](const T& p, const T& q, const T& r) {
+            return L::max(L::abs(p), L::max(L::abs(q), L::abs(r)));
+        };
+        const T max_x = largest(ax, bx, cx), max_y = largest(ay, by, cy), max_z = largest(az, bz, cz);
+        const T max_zt = L::abs(sz_) * max_z;  // in units of t
+        const T max_e = largest(u, v, w);
+        const T delta_x = T(rounding_gamma(5)) * (max_x + max_z), delta_y = T(rounding_gamma(5)) * (max_y + max_z);
+        const T delta_e = T(2.0f) * (T(rounding_gamma(2)) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+        const T delta_zt = T(rounding_gamma(3)) * max_zt;
+        return T(3.0f) * (T(rounding_gamma(3)) * max_e * max_zt + delta_e * max_zt + delta_zt * max_e) * L::abs(inv_det);
+    }
+
+    Vec3T<T> origin_, dir_;
     T tmin_;
     typename L::AxisPermutation axes_;
     T sx_, sy_, sz_;

@@ -25,6 +25,7 @@
 
 #include "core/lanes.h"
 #include "core/ray.h"
+#include "core/rounding.h"
 #include "core/vec3.h"
 
 namespace trident {
@@ -38,13 +39,6 @@ inline std::optional<SlabTest> parse_slab_test(std::string_view name) {
     if (name == "robust") return SlabTest::robust;
     if (name == "fast") return SlabTest::fast;
     return std::nullopt;
-}
-
-/// gamma(n) = n u / (1 - n u), the bound on the relative error of n roundings (u = 2^-24; Higham,
-/// "Accuracy and Stability of Numerical Algorithms", section 3.1, as used by Ize and pbrt).
-constexpr float rounding_gamma(int n) {
-    constexpr float u = std::numeric_limits<float>::epsilon() * 0.5f;
-    return (float(n) * u) / (1.0f - float(n) * u);
 }
 
 /// What the slab test needs of a ray, computed once per ray (or packet).

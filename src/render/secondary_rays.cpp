@@ -24,9 +24,14 @@ Vec3f facing_geometric_normal(const Mesh& mesh, TriangleId triangle, const Vec3f
     return dot(unit, incoming) > 0.0f ? -unit : unit;
 }
 
+Vec3f surface_point(const Mesh& mesh, const Hit& hit) {
+    const Triangle tri = triangle_of(mesh, hit.triangle);
+    return tri.a + (tri.b - tri.a) * hit.u + (tri.c - tri.a) * hit.v;
+}
+
 Ray shadow_ray(const Mesh& mesh, const Ray& primary, const Hit& hit, const Vec3f& light) {
     constexpr Ray kNothing{{}, {1.0f, 0.0f, 0.0f}, 0.0f, 0.0f};
-    const Vec3f p = primary.origin + primary.dir * hit.t;
+    const Vec3f p = surface_point(mesh, hit);
     const Vec3f ng = facing_geometric_normal(mesh, hit.triangle, primary.dir);
     if (!(dot(light - p, ng) > 0.0f)) return kNothing;  // the light is behind the surface: in shadow
     const Vec3f origin = offset_ray_origin(p, ng);
@@ -70,7 +75,7 @@ SecondaryRays make_diffuse_rays(const Mesh& mesh, const Camera& camera, std::spa
                                 std::uint64_t seed) {
     return make_per_hit(camera, hits, lanes, [&](const Ray& primary, const Hit& hit, std::uint32_t pixel) {
         const Vec3f ng = facing_geometric_normal(mesh, hit.triangle, primary.dir);
-        return hemisphere_ray(primary.origin + primary.dir * hit.t, ng, ng, sample_uniforms(pixel, 0, seed), kInfinity);
+        return hemisphere_ray(surface_point(mesh, hit), ng, ng, sample_uniforms(pixel, 0, seed), kInfinity);
     });
 }
 

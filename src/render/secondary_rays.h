@@ -21,6 +21,13 @@ std::vector<std::uint32_t> pixels_in_packet_order(const Camera& camera, const Im
 /// The unit geometric normal of a triangle turned to face the incoming direction.
 Vec3f facing_geometric_normal(const Mesh& mesh, TriangleId triangle, const Vec3f& incoming);
 
+/// Where `hit` lies on its triangle, from the corners and the barycentrics: a + u (b - a) + v (c - a).
+/// Its rounding error is a few ulps of the corners' coordinates, which is what offset_ray_origin
+/// (core/ray_offset.h) moves the point by. origin + t * dir is off by a few ulps of t * |dir|
+/// instead: on a floor near y = 0 seen from 2,000 units away, many times that offset, and the
+/// secondary ray starts below the floor (tests/render/test_shadow_rays.cpp).
+Vec3f surface_point(const Mesh& mesh, const Hit& hit);
+
 /// From the hit of `primary` to the light; tmax = tmin = 0 (nothing to trace, in shadow) when the
 /// light is behind the surface as the ray saw it. The ray stops just short of the light.
 Ray shadow_ray(const Mesh& mesh, const Ray& primary, const Hit& hit, const Vec3f& light);

@@ -88,7 +88,7 @@ std::vector<float> ambient_visibility(const Scene& scene, const AnyAccel& accel,
         for (std::uint32_t pixel : pixels_in_packet_order(camera, tile, lanes)) {
             if (!hits[pixel].is_hit()) continue;
             const Ray primary = camera.primary_ray(pixel % camera.width(), pixel / camera.width());
-            const Vec3f p = primary.origin + primary.dir * hits[pixel].t;
+            const Vec3f p = surface_point(scene.mesh, hits[pixel]);
             const Vec3f ng = facing_geometric_normal(scene.mesh, hits[pixel].triangle, primary.dir);
             const Vec3f n = shading_normal(scene.mesh, hits[pixel], primary.dir, plan.normals);
             for (std::uint32_t s = 0; s < samples; ++s)
@@ -123,7 +123,7 @@ Image shade_shaded(const Scene& scene, const AnyAccel& accel, const Camera& came
         const Vec3f n = shading_normal(scene.mesh, hits[i], primary.dir, plan.normals);
         float light = 0.0f;
         if (plan.shadow_pass) {
-            const Vec3f p = primary.origin + primary.dir * hits[i].t;
+            const Vec3f p = surface_point(scene.mesh, hits[i]);
             light = 0.12f + (lit[i] ? 0.88f * std::max(0.0f, dot(n, normalize(plan.light->position - p))) : 0.0f);
         } else {
             light = 0.15f + 0.85f * std::abs(dot(n, primary.dir));

@@ -5,6 +5,7 @@
 
 #include "accel/brute/brute_force.h"
 #include "core/intersect_triangle.h"
+#include "core/ray_offset.h"
 #include "core/reference.h"
 
 using namespace trident;
@@ -115,4 +116,35 @@ TEST_CASE("the float brute-force structure agrees with the reference on a closed
         CHECK(double(hit.t) == doctest::Approx(ref.t).epsilon(1e-5));
         CHECK(brute.occluded(ray));
     }
+}
+
+TEST_CASE("watertight: a ray leaving a large plane from an offset origin does not hit its coplanar triangles") {
+    // Two triangles 3,200 units wide in the plane y = -1.572159 (Room's floor, ../shared/scenes):
+    // an origin offset off that plane (core/ray_offset.h) lies 256 ulps of its y above it, far
+    // less than the rounding of t on corners 1,000 units away, so the float t of the crossing
+    // behind the origin can round to >= 0. Rays leaving upward must not hit the floor. (The
+    // other way, a ray from such an origin back down into the floor can miss it, its t rounding
+    // below 0; the renderer makes no such rays: shadow and hemisphere rays leave the surface.)
+    const float y = -1.5721590f;
+    const Triangle floor[2] = {{{-1600, y, -1600}, {1600, y, 1600}, {1600, y, -1600}},
+                               {{-1600, y, -1600}, {-1600, y, 1600}, {1600, y, 1600}}};
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<float> coordinate(-1500.0f, 1500.0f), lean(-1.0f, 1.0f), rise(0.05f, 1.0f);
+    int leaving_hits = 0;
+    for (int i = 0; i < 2000; ++i) {
+        const Vec3f origin = offset_ray_origin({coordinate(rng), y, coordinate(rng)}, {0, 1, 0});
+        const Vec3f up = normalize(Vec3f{lean(rng), rise(rng), lean(rng)});
+        for (const Triangle& tri : floor) leaving_hits += hits(TriangleTest::watertight, Ray{origin, up}, tri);
+    }
+    CHECK(leaving_hits == 0);
+}
+
+TEST_CASE("watertight: a sliver far from the origin stays hit where its t is within rounding of 0") {
+    // 10 units long and 1e-5 wide, 22 units away: its determinant is so small that the bound on
+    // t's rounding exceeds t itself. The hit must be decided again, not dropped, or rays leak
+    // through the gap the sliver fills.
+    const Triangle sliver{{0, 0, 0}, {10, 0, 0}, {5, 1e-5f, 0}};
+    TriangleHit h{};
+    REQUIRE(hits<TriangleTest::watertight>(Ray{{5.0f, 4e-6f, 22.0f}, {0, 0, -1}}, sliver, h));
+    CHECK(h.t == doctest::Approx(22.0f));
 }
