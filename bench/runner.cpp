@@ -304,7 +304,8 @@ private:
     }
 
     /// Our shadow and diffuse rows for one structure and traversal (default triangle and slab tests):
-    /// shadow rays as packets in primary-packet order, diffuse rays as incoherent_traversal() says.
+    /// shadow rays as packets in primary-packet order, diffuse rays as packets grouped by direction
+    /// octant, each row at its own width (the renderer's pick for diffuse rays is incoherent_traversal()).
     void run_secondary_rows(const SceneRun& run, const StructureConfig& config, const AnyAccel& accel,
                             const Summary& build, Traversal traversal, const std::string& what) {
         const SimdWidth width = simd_width(traversal);

@@ -71,12 +71,13 @@ PointLight default_light(const Aabb& box);
 /// this is, per structure, the octant-packet width measured faster than single rays on every one
 /// of the study's scenes (`trident-bench --rays diffuse --vs-single`, which times each packet run
 /// and a single-ray run of the same rays in pairs; bench/RESULTS.md, "Diffuse rays: which
-/// traversal"): the BVH takes 8 lanes where they run (1.10-2.11x; 4 lanes lost on Gallery, and
-/// 16, faster on Teapot, Bunny and Room, fell to 1.01x there); the KD-tree 16 lanes where they
-/// run (1.07-2.42x), else 4 (8 lanes lost on Room and Buddha); the octree 16 lanes where they run
-/// (1.07-2.66x), else single rays above 100k triangles (narrower packets lost by up to 10% on
-/// Sponza, Room and Gallery) and the asked width below. Any choice gives the same answers, bit
-/// for bit.
+/// traversal"): the BVH takes 16 lanes where they run (1.20-3.32x in three runs at 9fd447c, ahead
+/// of 8 lanes on every scene; at 44f3868, before its packet walk got faster, 16 lanes fell to
+/// 1.01x on Gallery and 8 were chosen), else 8 (1.10-2.42x; 4 lanes lost on Gallery at
+/// 44f3868); the KD-tree 16 lanes where they run (1.07-2.42x), else 4 (8 lanes lost on Room and
+/// Buddha); the octree 16 lanes where they run (1.07-2.66x), else single rays above 100k
+/// triangles (narrower packets lost by up to 10% on Sponza, Room and Gallery) and the asked width
+/// below. Any choice gives the same answers, bit for bit.
 StreamTraversal incoherent_traversal(AccelKind accel, SimdWidth requested, std::size_t triangles);
 
 RenderPlan make_render_plan(const Scene& scene, const RenderRequest& request);

@@ -123,7 +123,7 @@ TEST_CASE("plan: incoherent rays take the traversal measured best per structure,
             const StreamTraversal bvh = incoherent_traversal(AccelKind::bvh, asked, triangles);
             const StreamTraversal kd = incoherent_traversal(AccelKind::kdtree, asked, triangles);
             const StreamTraversal octree = incoherent_traversal(AccelKind::octree, asked, triangles);
-            CHECK(bvh.width == (is_runnable(SimdWidth::w8) ? SimdWidth::w8 : asked));
+            CHECK(bvh.width == (has16 ? SimdWidth::w16 : is_runnable(SimdWidth::w8) ? SimdWidth::w8 : asked));
             CHECK(kd.width == (has16 ? SimdWidth::w16 : SimdWidth::w4));
             // Narrow octree packets lose above 100k triangles: single rays there, unless 16 lanes run.
             CHECK(octree.width == (has16 ? SimdWidth::w16 : triangles < 100000 ? asked : SimdWidth::scalar));
