@@ -35,6 +35,33 @@ Scene shadow_box() {
     return scene;
 }
 
+/// Every structure and traversal: more than `min_hit_share` of the pixels see the scene, and
+/// every pixel that does is lit (the scene has nothing between its surfaces and its light).
+void check_every_hit_lit(const Scene& scene, const Camera& camera, double min_hit_share) {
+    for (AccelKind kind : built_accel_kinds()) {
+        const AnyAccel accel = AnyAccel::build(kind, scene.mesh);
+        for (SimdWidth width : runnable_widths()) {
+            if (!has_packet_traversal(accel, width)) continue;
+            CAPTURE(std::string(to_string(kind)));
+            CAPTURE(std::string(to_string(width)));
+            RenderRequest request;
+            request.width = width;
+            const RenderPlan plan = make_render_plan(scene, request);
+            REQUIRE(plan.shadow_pass);
+            const std::vector<Hit> hits = trace_primary(accel, camera, TriangleTest::watertight, width);
+            const std::vector<std::uint8_t> lit = light_visibility(scene, accel, camera, hits, plan);
+            std::size_t hit_pixels = 0, dark = 0;
+            for (std::size_t i = 0; i < hits.size(); ++i)
+                if (hits[i].is_hit()) {
+                    ++hit_pixels;
+                    dark += !lit[i];
+                }
+            CHECK(double(hit_pixels) > min_hit_share * double(hits.size()));
+            CHECK(dark == 0);
+        }
+    }
+}
+
 }  // namespace
 
 TEST_CASE("shadow rays: full light, a known shadow, and a surface facing away, for every structure and width") {
@@ -80,29 +107,7 @@ TEST_CASE("shadow rays: a flat lit plane far from the origin has no self-shadowe
             add_floor_quad(scene.mesh, c.x - 12 + float(i), c.x - 11 + float(i), c.z - 12 + float(j), c.z - 11 + float(j), c.y);
     scene.light = PointLight{c + Vec3f{30.0f, 4.0f, 20.0f}};  // low: shadow rays graze the plane
     scene.camera = CameraSpec{c + Vec3f{0.0f, 6.0f, 14.0f}, c, {0, 1, 0}, 60.0f};
-    const Camera camera(scene.camera, 48, 32);
-    for (AccelKind kind : built_accel_kinds()) {
-        const AnyAccel accel = AnyAccel::build(kind, scene.mesh);
-        for (SimdWidth width : runnable_widths()) {
-            if (!has_packet_traversal(accel, width)) continue;
-            CAPTURE(to_string(kind));
-            CAPTURE(to_string(width));
-            RenderRequest request;
-            request.width = width;
-            const RenderPlan plan = make_render_plan(scene, request);
-            REQUIRE(plan.shadow_pass);
-            const std::vector<Hit> hits = trace_primary(accel, camera, TriangleTest::watertight, width);
-            const std::vector<std::uint8_t> lit = light_visibility(scene, accel, camera, hits, plan);
-            std::size_t hit_pixels = 0, dark = 0;
-            for (std::size_t i = 0; i < hits.size(); ++i)
-                if (hits[i].is_hit()) {
-                    ++hit_pixels;
-                    dark += !lit[i];
-                }
-            CHECK(hit_pixels > hits.size() / 2);
-            CHECK(dark == 0);
-        }
-    }
+    check_every_hit_lit(scene, Camera(scene.camera, 48, 32), 0.5);
 }
 
 TEST_CASE("shadow rays: a large floor seen from afar has no self-shadowed pixel (no acne)") {
@@ -138,28 +143,7 @@ TEST_CASE("shadow rays: a large floor seen from afar has no self-shadowed pixel 
         CHECK(worst_stray > 2.0f * offset);
         CHECK(worst_surface == 0.0f);
     }
-    for (AccelKind kind : built_accel_kinds()) {
-        const AnyAccel accel = AnyAccel::build(kind, scene.mesh);
-        for (SimdWidth width : runnable_widths()) {
-            if (!has_packet_traversal(accel, width)) continue;
-            CAPTURE(std::string(to_string(kind)));
-            CAPTURE(std::string(to_string(width)));
-            RenderRequest request;
-            request.width = width;
-            const RenderPlan plan = make_render_plan(scene, request);
-            REQUIRE(plan.shadow_pass);
-            const std::vector<Hit> hits = trace_primary(accel, camera, TriangleTest::watertight, width);
-            const std::vector<std::uint8_t> lit = light_visibility(scene, accel, camera, hits, plan);
-            std::size_t hit_pixels = 0, dark = 0;
-            for (std::size_t i = 0; i < hits.size(); ++i)
-                if (hits[i].is_hit()) {
-                    ++hit_pixels;
-                    dark += !lit[i];
-                }
-            CHECK(hit_pixels > hits.size() / 3);
-            CHECK(dark == 0);
-        }
-    }
+    check_every_hit_lit(scene, camera, 0.33);
 }
 
 TEST_CASE("occlusion agrees with closest hit on incoherent rays, for every structure, width and grouping") {
