@@ -213,7 +213,8 @@ private:
     /// far larger than the offset, come out hit at t near 0 and would shadow it. Such hits are
     /// decided again in double (detail::drop_crossings_before_tmin) rather than dropped, since
     /// the bound also exceeds t on slivers far from the origin (det near 0), which must stay hit
-    /// for the mesh to stay watertight. Only lanes that hit get here.
+    /// for the mesh to stay watertight. It is computed only when some lane hits, so the misses
+    /// that make up most tests do not pay for it.
     T t_rounding_bound(const T& ax, const T& ay, const T& bx, const T& by, const T& cx, const T& cy, const T& az,
                        const T& bz, const T& cz, const T& u, const T& v, const T& w, const T& inv_det) const {
         const auto largest = [](const T& p, const T& q, const T& r) {
