@@ -76,6 +76,28 @@ void edge_functions_in_double(typename Lanes<T>::Mask lanes, const T& ax, const 
     w = L::from_array(w_);
 }
 
+/// A vector's lanes in memory, for the rare fallbacks done lane by lane in double.
+template <class T>
+class LanesInDouble {
+public:
+    explicit LanesInDouble(const Vec3T<T>& v)
+        : x_(Lanes<T>::to_array(v.x)), y_(Lanes<T>::to_array(v.y)), z_(Lanes<T>::to_array(v.z)) {}
+    Vec3d operator[](int lane) const { return Vec3d(x_[lane], y_[lane], z_[lane]); }
+
+private:
+    typename Lanes<T>::Array x_, y_, z_;
+};
+
+/// `mask` without the lanes whose bit is set in `dropped`.
+template <class T>
+typename Lanes<T>::Mask without_lanes(typename Lanes<T>::Mask mask, std::uint32_t dropped) {
+    using L = Lanes<T>;
+    if (dropped == 0) return mask;
+    typename L::Array keep{};
+    for (std::size_t i = 0; i < L::width; ++i) keep[i] = (dropped >> i) & 1u ? 0.0f : 1.0f;
+    return mask & (L::from_array(keep) != T(0.0f));
+}
+
 /// The hit lanes whose triangle has area. A zero-area triangle (collinear or repeated corners)
 /// has det = 0 in exact arithmetic, but its corners, translated and sheared in float, need not
 /// stay collinear, so det may round away from zero and a ray passing its segment would hit it.
@@ -86,22 +108,13 @@ void edge_functions_in_double(typename Lanes<T>::Mask lanes, const T& ax, const 
 template <class T>
 [[gnu::noinline]] typename Lanes<T>::Mask drop_zero_area(typename Lanes<T>::Mask hit, const Vec3T<T>& a, const Vec3T<T>& b,
                                        const Vec3T<T>& c) {
-    using L = Lanes<T>;
-    const std::array<typename L::Array, 9> corners = {L::to_array(a.x), L::to_array(a.y), L::to_array(a.z),
-                                                      L::to_array(b.x), L::to_array(b.y), L::to_array(b.z),
-                                                      L::to_array(c.x), L::to_array(c.y), L::to_array(c.z)};
+    const LanesInDouble<T> a_(a), b_(b), c_(c);
     std::uint32_t zero_area = 0;
-    for (std::uint32_t bits = L::bits(hit); bits != 0; bits &= bits - 1) {
+    for (std::uint32_t bits = Lanes<T>::bits(hit); bits != 0; bits &= bits - 1) {
         const int i = std::countr_zero(bits);
-        const Vec3d da(corners[0][i], corners[1][i], corners[2][i]);
-        const Vec3d e1 = Vec3d(corners[3][i], corners[4][i], corners[5][i]) - da;
-        const Vec3d e2 = Vec3d(corners[6][i], corners[7][i], corners[8][i]) - da;
-        if (cross(e1, e2) == Vec3d(0.0)) zero_area |= 1u << i;
+        if (cross(b_[i] - a_[i], c_[i] - a_[i]) == Vec3d(0.0)) zero_area |= 1u << i;
     }
-    if (zero_area == 0) return hit;
-    typename L::Array keep{};
-    for (std::size_t i = 0; i < L::width; ++i) keep[i] = (zero_area >> i) & 1u ? 0.0f : 1.0f;
-    return hit & (L::from_array(keep) != T(0.0f));
+    return without_lanes<T>(hit, zero_area);
 }
 
 /// Of the `near_origin` lanes, those whose plane the ray really crosses before tmin, dropped from
@@ -116,27 +129,16 @@ template <class T>
                                                                      const Vec3T<T>& a, const Vec3T<T>& b,
                                                                      const Vec3T<T>& c, const Vec3T<T>& origin,
                                                                      const Vec3T<T>& dir, const T& tmin) {
-    using L = Lanes<T>;
-    const auto lanes_of = [](const Vec3T<T>& v) {
-        return std::array<typename L::Array, 3>{L::to_array(v.x), L::to_array(v.y), L::to_array(v.z)};
-    };
-    const auto a_ = lanes_of(a), b_ = lanes_of(b), c_ = lanes_of(c), o_ = lanes_of(origin), d_ = lanes_of(dir);
-    const auto tmin_ = L::to_array(tmin);
-    const auto at = [](const std::array<typename L::Array, 3>& v, int i) {
-        return Vec3d(v[0][i], v[1][i], v[2][i]);
-    };
+    const LanesInDouble<T> a_(a), b_(b), c_(c), origin_(origin), dir_(dir);
+    const auto tmin_ = Lanes<T>::to_array(tmin);
     std::uint32_t before = 0;
-    for (std::uint32_t bits = L::bits(hit & near_origin); bits != 0; bits &= bits - 1) {
+    for (std::uint32_t bits = Lanes<T>::bits(hit & near_origin); bits != 0; bits &= bits - 1) {
         const int i = std::countr_zero(bits);
-        const Vec3d corner = at(a_, i);
-        const Vec3d normal = cross(at(b_, i) - corner, at(c_, i) - corner);
-        const double t = dot(normal, corner - at(o_, i)) / dot(normal, at(d_, i));
+        const Vec3d normal = cross(b_[i] - a_[i], c_[i] - a_[i]);
+        const double t = dot(normal, a_[i] - origin_[i]) / dot(normal, dir_[i]);
         if (!(t >= double(tmin_[i]))) before |= 1u << i;
     }
-    if (before == 0) return hit;
-    typename L::Array keep{};
-    for (std::size_t i = 0; i < L::width; ++i) keep[i] = (before >> i) & 1u ? 0.0f : 1.0f;
-    return hit & (L::from_array(keep) != T(0.0f));
+    return without_lanes<T>(hit, before);
 }
 
 }  // namespace detail
