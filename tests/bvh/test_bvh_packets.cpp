@@ -6,88 +6,22 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
-#include <array>
-#include <bit>
-#include <cmath>
 #include <cstdint>
-#include <functional>
 #include <random>
 #include <span>
-#include <string>
-#include <utility>
 #include <vector>
 
 #include "bvh_test_helpers.h"
+#include "render/image_tiles.h"
 #include "simd/each_arch.h"
+#include "support/camera_rays.h"
+#include "support/packet_agreement.h"
 #include "support/random_scenes.h"
 
 using namespace trident;
 using namespace trident::testing;
 
 namespace {
-
-/// Which lanes of each packet to switch off, by lane index.
-using LaneFilter = std::function<bool(std::size_t)>;
-
-struct PacketComparison {
-    std::size_t lanes = 0;        // lanes compared
-    std::size_t hits = 0;         // of them, single-ray hits (to see the test is not vacuous)
-    std::size_t ties = 0;         // lanes that kept another triangle hit at the same t
-    std::size_t closest = 0;      // lanes whose closest hit differs otherwise
-    std::size_t shared_ties = 0;  // ties in packets whose lanes share an octant, where none may occur
-    std::size_t occluded = 0;     // lanes whose any-hit answer differs
-    std::size_t untouched = 0;    // lanes not traced whose hit record changed anyway
-    std::size_t padding = 0;      // lanes not traced reported occluded
-
-    void require_agreement() const {
-        CHECK(lanes > 0);
-        CHECK(closest == 0);
-        CHECK(shared_ties == 0);
-        CHECK(occluded == 0);
-        CHECK(untouched == 0);
-        CHECK(padding == 0);
-    }
-};
-
-bool same_bits(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
-bool same_bits(const Hit& a, const Hit& b) {
-    return a.triangle == b.triangle && same_bits(a.t, b.t) && same_bits(a.u, b.u) && same_bits(a.v, b.v);
-}
-
-/// The raw lanes of a hit packet (misses as they are, not as Hit{}).
-template <class Arch>
-struct HitLanes {
-    static constexpr std::size_t width = HitPacket<Arch>::width;
-    std::array<std::uint32_t, width> triangle;
-    std::array<float, width> t, u, v;
-
-    explicit HitLanes(const HitPacket<Arch>& hits) {
-        hits.triangle.store_unaligned(triangle.data());
-        hits.t.store_unaligned(t.data());
-        hits.u.store_unaligned(u.data());
-        hits.v.store_unaligned(v.data());
-    }
-    Hit lane(std::size_t i) const { return {triangle[i], t[i], u[i], v[i]}; }
-};
-
-/// Whether the traced lanes agree on the sign of every direction component (dir < 0, the
-/// single-ray traversal's rule for the near child): then every lane meets its nodes in the
-/// single-ray order and ties resolve alike.
-bool lanes_share_octant(std::span<const Ray> rays, const std::vector<bool>& traced) {
-    int octant = -1;
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-        if (!traced[i]) continue;
-        const int lane = int(rays[i].dir.x < 0.0f) | int(rays[i].dir.y < 0.0f) << 1 | int(rays[i].dir.z < 0.0f) << 2;
-        if (octant >= 0 && lane != octant) return false;
-        octant = lane;
-    }
-    return true;
-}
-
-/// The pixel block of a packet: 2x2, 4x2 or 4x4.
-constexpr std::pair<int, int> packet_block(std::size_t width) {
-    return {width == 4 ? 2 : 4, int(width) / (width == 4 ? 2 : 4)};
-}
 
 /// Whether `got` is the single-ray triangle test's hit of `ray` on its triangle at exactly the t
 /// of `expected`: another triangle of a tie.
@@ -99,58 +33,22 @@ bool is_tie(const Mesh& mesh, const Ray& ray, const Hit& got, const Hit& expecte
     return hit && same_bits(h.t, got.t) && same_bits(h.u, got.u) && same_bits(h.v, got.v);
 }
 
-/// Traces `rays` in packets of `rays_per_packet` consecutive rays (the width when 0; the last
-/// packet may be partial) with the lanes `off` names switched off, closest hit and any hit, and
-/// compares every lane with the single-ray traversal. A lane switched off, or with tmin > tmax,
-/// must keep the record it arrived with and never be occluded.
+/// compare_packet_lanes() for the BVH's packets, with the single-ray switch at `SingleRayLanes`.
+/// Ties are allowed, but only between lanes of different octants (bvh_packet.h).
 template <class Arch, int SingleRayLanes, TriangleTest Test = TriangleTest::watertight,
           SlabTest Slabs = SlabTest::robust>
 PacketComparison compare_packets(const Bvh& bvh, const Mesh& mesh, std::span<const Ray> rays,
                                  std::size_t rays_per_packet = 0, const LaneFilter& off = {}) {
-    constexpr std::size_t width = RayPacket<Arch>::width;
-    using Mask = typename RayPacket<Arch>::Mask;
-    const std::size_t step = rays_per_packet == 0 ? width : std::min(rays_per_packet, width);
-    PacketComparison out;
     NoCounters none;
-    for (std::size_t first = 0; first < rays.size(); first += step) {
-        const std::span<const Ray> chunk = rays.subspan(first, std::min(step, rays.size() - first));
-        RayPacket<Arch> packet(chunk);
-        std::array<bool, width> live{};
-        for (std::size_t i = 0; i < chunk.size(); ++i) live[i] = !(off && off(i));
-        packet.active = packet.active & Mask::load_unaligned(live.data());
-
-        const HitPacket<Arch> arrived(packet);
-        HitPacket<Arch> hits(packet);
-        bvh.intersect<Test, Slabs, Arch, NoCounters, SingleRayLanes>(packet, hits, none);
-        const std::uint32_t occluded =
-            simd::mask_bits(bvh.occluded<Test, Slabs, Arch, NoCounters, SingleRayLanes>(packet, none));
-        const HitLanes<Arch> before(arrived), after(hits);
-        std::vector<bool> traced(width);
-        for (std::size_t i = 0; i < chunk.size(); ++i) traced[i] = live[i] && chunk[i].tmin <= chunk[i].tmax;
-        const bool shared_octant = lanes_share_octant(chunk, traced);
-
-        for (std::size_t i = 0; i < width; ++i) {
-            if (!traced[i]) {
-                out.untouched += !same_bits(before.lane(i), after.lane(i));
-                out.padding += (occluded >> i) & 1u;
-                continue;
-            }
-            ++out.lanes;
-            const Hit expected = bvh.intersect<Test, Slabs>(chunk[i], none);
-            out.hits += expected.is_hit();
-            const Hit got = after.lane(i).is_hit() ? after.lane(i) : Hit{};
-            if (!same_bits(got, expected)) {
-                if (is_tie<Test>(mesh, chunk[i], got, expected)) {
-                    ++out.ties;
-                    out.shared_ties += shared_octant;
-                } else {
-                    ++out.closest;
-                }
-            }
-            out.occluded += bool((occluded >> i) & 1u) != bvh.occluded<Test, Slabs>(chunk[i], none);
-        }
-    }
-    return out;
+    return compare_packet_lanes<Arch>(
+        rays, rays_per_packet, off,
+        [&](const RayPacket<Arch>& packet, HitPacket<Arch>& hits) {
+            bvh.intersect<Test, Slabs, Arch, NoCounters, SingleRayLanes>(packet, hits, none);
+            return simd::mask_bits(bvh.occluded<Test, Slabs, Arch, NoCounters, SingleRayLanes>(packet, none));
+        },
+        [&](const Ray& ray) { return bvh.intersect<Test, Slabs>(ray, none); },
+        [&](const Ray& ray) { return bvh.occluded<Test, Slabs>(ray, none); },
+        [&](const Ray& ray, const Hit& got, const Hit& expected) { return is_tie<Test>(mesh, ray, got, expected); });
 }
 
 /// Every packet width this machine runs, each with the single-ray switch off, at its default and
@@ -171,50 +69,6 @@ std::size_t check_packets(const Bvh& bvh, const Mesh& mesh, std::span<const Ray>
         }
     });
     return ties;
-}
-
-/// Primary rays of `blocks` pixel blocks, `block_w` x `block_h` pixels each, of a 640 x 360 image
-/// of the camera, computed as ../shared/BENCHMARK.md writes them; a block's rays are consecutive,
-/// row by row. The first block sits at the image centre, the others at random.
-std::vector<Ray> pixel_block_rays(const CameraSpec& camera, int block_w, int block_h, std::size_t blocks,
-                                  std::uint32_t seed) {
-    constexpr int width = 640, height = 360;
-    constexpr float kPi = 3.14159265358979f;
-    const Vec3f forward = normalize(camera.target - camera.eye);
-    const Vec3f right = normalize(cross(forward, camera.up));
-    const Vec3f up = cross(right, forward);
-    const float ty = std::tan(camera.fov_y_deg * kPi / 360.0f), tx = ty * float(width) / float(height);
-    std::mt19937 rng(seed);
-    std::uniform_int_distribution<int> column(0, width - block_w), row(0, height - block_h);
-    std::vector<Ray> rays;
-    for (std::size_t b = 0; b < blocks; ++b) {
-        const int x0 = b == 0 ? (width - block_w) / 2 : column(rng), y0 = b == 0 ? (height - block_h) / 2 : row(rng);
-        for (int y = y0; y < y0 + block_h; ++y)
-            for (int x = x0; x < x0 + block_w; ++x) {
-                const float sx = (2.0f * (float(x) + 0.5f) / float(width) - 1.0f) * tx;
-                const float sy = (1.0f - 2.0f * (float(y) + 0.5f) / float(height)) * ty;
-                rays.push_back({camera.eye, normalize(forward + sx * right + sy * up)});
-            }
-    }
-    return rays;
-}
-
-/// Rays from `origin` whose direction components take every sign, +0 and -0 included, cycling so
-/// that each packet holds lanes of several octants.
-std::vector<Ray> rays_of_every_sign(const Vec3f& origin, std::size_t count, std::uint32_t seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> magnitude(0.05f, 1.0f);
-    std::vector<Ray> rays;
-    for (std::size_t i = 0; i < count; ++i) {
-        Vec3f d;
-        for (int axis = 0; axis < 3; ++axis) {
-            const std::size_t choice = (i >> (2 * axis)) % 4;  // positive, negative, +0, -0
-            d[axis] = choice == 0 ? magnitude(rng) : choice == 1 ? -magnitude(rng) : choice == 2 ? 0.0f : -0.0f;
-        }
-        if (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f) d.x = -1.0f;
-        rays.push_back({origin, d});  // not normalized: zero components keep their sign
-    }
-    return rays;
 }
 
 /// A lattice of unit right triangles in the planes x = i, y = j and z = k (as in
@@ -254,23 +108,6 @@ std::vector<Ray> rays_on_lattice_planes() {
                             ray.tmin = tmin;
                             rays.push_back(ray);
                         }
-    return rays;
-}
-
-/// Rays from random points inside the box in random directions, with random [tmin, tmax] windows.
-std::vector<Ray> windowed_rays_from_inside(const Aabb& box, std::size_t count, std::uint32_t seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> unit(0.0f, 1.0f), sym(-1.0f, 1.0f);
-    const Vec3f extent = box.extent();
-    std::vector<Ray> rays;
-    for (std::size_t i = 0; i < count; ++i) {
-        Ray ray;
-        ray.origin = box.lo + Vec3f{unit(rng) * extent.x, unit(rng) * extent.y, unit(rng) * extent.z};
-        ray.dir = normalize(Vec3f{sym(rng), sym(rng), sym(rng)});
-        ray.tmin = unit(rng) * 0.5f;
-        ray.tmax = i % 3 == 0 ? kInfinity : ray.tmin + unit(rng) * 2.0f;
-        rays.push_back(ray);
-    }
     return rays;
 }
 
@@ -396,7 +233,8 @@ TEST_CASE(
         for_each_packet_arch([&]<class Arch>() {
             constexpr int width = int(RayPacket<Arch>::width);
             const auto [block_w, block_h] = packet_block(width);
-            const std::vector<Ray> blocks = pixel_block_rays(scene.camera, block_w, block_h, 40, 91);
+            const std::vector<Ray> blocks =
+                pixel_block_rays(scene.camera, 640, 360, int(block_w), int(block_h), 40, 91);
             const std::vector<Ray> random = camera_rays(scene.camera, 160, 92);
             for (const std::span<const Ray> rays : {std::span<const Ray>(blocks), std::span<const Ray>(random)}) {
                 for (const PacketComparison& result :
@@ -416,37 +254,22 @@ TEST_CASE("the counters count per packet: at least the busiest lane's work, at m
     for_each_packet_arch([&]<class Arch>() {
         constexpr std::size_t width = RayPacket<Arch>::width;
         const auto [block_w, block_h] = packet_block(width);
-        const std::vector<Ray> rays = pixel_block_rays(scene.camera, block_w, block_h, 60, 101);
-        std::size_t below_busiest = 0, above_sum = 0, shared_packets = 0;
-        TraversalCounters packets, lanes;
+        const std::vector<Ray> rays = pixel_block_rays(scene.camera, 640, 360, int(block_w), int(block_h), 60, 101);
+        PacketWorkTally tally;
         for (std::size_t first = 0; first < rays.size(); first += width) {
             const std::span<const Ray> chunk = std::span(rays).subspan(first, width);
             if (!lanes_share_octant(chunk, std::vector<bool>(width, true))) continue;  // others may visit more
             const RayPacket<Arch> packet(chunk);
-            ++shared_packets;
             HitPacket<Arch> hits(packet);
-            TraversalCounters one_packet, busiest, sum;
+            TraversalCounters one_packet;
             bvh.intersect<TriangleTest::watertight, SlabTest::robust, Arch, TraversalCounters, 0>(packet, hits,
                                                                                                   one_packet);
-            for (const Ray& ray : chunk) {
-                TraversalCounters one_ray;
+            tally.add(one_packet, chunk, [&](const Ray& ray, TraversalCounters& one_ray) {
                 bvh.intersect<TriangleTest::watertight>(ray, one_ray);
-                busiest.nodes_visited = std::max(busiest.nodes_visited, one_ray.nodes_visited);
-                busiest.triangles_tested = std::max(busiest.triangles_tested, one_ray.triangles_tested);
-                sum += one_ray;
-            }
-            below_busiest += one_packet.nodes_visited < busiest.nodes_visited ||
-                             one_packet.triangles_tested < busiest.triangles_tested;
-            above_sum +=
-                one_packet.nodes_visited > sum.nodes_visited || one_packet.triangles_tested > sum.triangles_tested;
-            packets += one_packet;
-            lanes += sum;
+            });
         }
-        CHECK(shared_packets > 40);
-        CHECK(below_busiest == 0);
-        CHECK(above_sum == 0);
-        // Coherent packets share most of their lanes' work.
-        CHECK(packets.nodes_visited * 2 < lanes.nodes_visited);
+        CHECK(tally.counted > 40);
+        tally.require_bounds();
     });
 }
 
@@ -456,7 +279,7 @@ TEST_CASE("an any-hit packet stops each lane at its first hit: no more triangle 
     for_each_packet_arch([&]<class Arch>() {
         constexpr std::size_t width = RayPacket<Arch>::width;
         const auto [block_w, block_h] = packet_block(width);
-        const std::vector<Ray> rays = pixel_block_rays(scene.camera, block_w, block_h, 40, 111);
+        const std::vector<Ray> rays = pixel_block_rays(scene.camera, 640, 360, int(block_w), int(block_h), 40, 111);
         TraversalCounters closest, any;
         for (std::size_t first = 0; first < rays.size(); first += width) {
             const RayPacket<Arch> packet(std::span<const Ray>(rays).subspan(first, width));

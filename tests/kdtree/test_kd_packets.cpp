@@ -7,22 +7,19 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
-#include <array>
-#include <bit>
-#include <cmath>
 #include <cstdint>
-#include <functional>
 #include <limits>
 #include <random>
 #include <span>
-#include <utility>
 #include <vector>
 
 #include "accel/kdtree/kdtree.h"
 #include "kdtree/kd_test_support.h"
+#include "render/image_tiles.h"
 #include "scenes/builtin.h"
 #include "simd/each_arch.h"
 #include "support/camera_rays.h"
+#include "support/packet_agreement.h"
 #include "support/random_scenes.h"
 
 using namespace trident;
@@ -30,88 +27,21 @@ using namespace trident::testing;
 
 namespace {
 
-/// Which lanes of each packet to switch off, by lane index.
-using LaneFilter = std::function<bool(std::size_t)>;
-
-struct PacketComparison {
-    std::size_t lanes = 0;      // lanes compared
-    std::size_t hits = 0;       // of them, single-ray hits (to see the test is not vacuous)
-    std::size_t closest = 0;    // lanes whose closest hit differs in any bit
-    std::size_t occluded = 0;   // lanes whose any-hit answer differs
-    std::size_t untouched = 0;  // lanes not traced whose hit record changed anyway
-    std::size_t padding = 0;    // lanes not traced reported occluded
-
-    void require_agreement() const {
-        CHECK(lanes > 0);
-        CHECK(closest == 0);
-        CHECK(occluded == 0);
-        CHECK(untouched == 0);
-        CHECK(padding == 0);
-    }
-};
-
-bool same_bits(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
-bool same_bits(const Hit& a, const Hit& b) {
-    return a.triangle == b.triangle && same_bits(a.t, b.t) && same_bits(a.u, b.u) && same_bits(a.v, b.v);
-}
-
-/// The raw lanes of a hit packet (misses as they are, not as Hit{}).
-template <class Arch>
-struct HitLanes {
-    static constexpr std::size_t width = HitPacket<Arch>::width;
-    std::array<std::uint32_t, width> triangle;
-    std::array<float, width> t, u, v;
-
-    explicit HitLanes(const HitPacket<Arch>& hits) {
-        hits.triangle.store_unaligned(triangle.data());
-        hits.t.store_unaligned(t.data());
-        hits.u.store_unaligned(u.data());
-        hits.v.store_unaligned(v.data());
-    }
-    Hit lane(std::size_t i) const { return {triangle[i], t[i], u[i], v[i]}; }
-};
-
-/// Traces `rays` in packets of `rays_per_packet` consecutive rays (the width when 0; the last may
-/// be partial) with the lanes `off` names switched off, closest hit and any hit, and compares
-/// every lane with the single-ray traversal. A lane switched off, or with tmin > tmax, must keep
-/// the record it arrived with and never be occluded.
+/// compare_packet_lanes() for the kd-tree's packets, with the single-ray switch at
+/// `SingleRayLanes`; no ties allowed (kd_packet.h).
 template <class Arch, int SingleRayLanes, TriangleTest Test = TriangleTest::watertight,
           SlabTest Slabs = SlabTest::robust>
 PacketComparison compare_packets(const KdTree& tree, std::span<const Ray> rays, std::size_t rays_per_packet = 0,
                                  const LaneFilter& off = {}) {
-    constexpr std::size_t width = RayPacket<Arch>::width;
-    using Mask = typename RayPacket<Arch>::Mask;
-    const std::size_t step = rays_per_packet == 0 ? width : std::min(rays_per_packet, width);
-    PacketComparison out;
     NoCounters none;
-    for (std::size_t first = 0; first < rays.size(); first += step) {
-        const std::span<const Ray> chunk = rays.subspan(first, std::min(step, rays.size() - first));
-        RayPacket<Arch> packet(chunk);
-        std::array<bool, width> live{};
-        for (std::size_t i = 0; i < chunk.size(); ++i) live[i] = !(off && off(i));
-        packet.active = packet.active & Mask::load_unaligned(live.data());
-
-        const HitPacket<Arch> arrived(packet);
-        HitPacket<Arch> hits(packet);
-        tree.intersect<Test, Slabs, Arch, NoCounters, SingleRayLanes>(packet, hits, none);
-        const std::uint32_t occluded =
-            simd::mask_bits(tree.occluded<Test, Slabs, Arch, NoCounters, SingleRayLanes>(packet, none));
-        const HitLanes<Arch> before(arrived), after(hits);
-        for (std::size_t i = 0; i < width; ++i) {
-            if (!(i < chunk.size() && live[i] && chunk[i].tmin <= chunk[i].tmax)) {
-                out.untouched += !same_bits(before.lane(i), after.lane(i));
-                out.padding += (occluded >> i) & 1u;
-                continue;
-            }
-            ++out.lanes;
-            const Hit expected = tree.intersect<Test, Slabs>(chunk[i], none);
-            out.hits += expected.is_hit();
-            const Hit got = after.lane(i).is_hit() ? after.lane(i) : Hit{};
-            out.closest += !same_bits(got, expected);
-            out.occluded += bool((occluded >> i) & 1u) != tree.occluded<Test, Slabs>(chunk[i], none);
-        }
-    }
-    return out;
+    return compare_packet_lanes<Arch>(
+        rays, rays_per_packet, off,
+        [&](const RayPacket<Arch>& packet, HitPacket<Arch>& hits) {
+            tree.intersect<Test, Slabs, Arch, NoCounters, SingleRayLanes>(packet, hits, none);
+            return simd::mask_bits(tree.occluded<Test, Slabs, Arch, NoCounters, SingleRayLanes>(packet, none));
+        },
+        [&](const Ray& ray) { return tree.intersect<Test, Slabs>(ray, none); },
+        [&](const Ray& ray) { return tree.occluded<Test, Slabs>(ray, none); });
 }
 
 /// Every packet width this machine runs, each with the single-ray switch off, at a quarter of the
@@ -129,36 +59,6 @@ void check_packets(const KdTree& tree, std::span<const Ray> rays, const LaneFilt
             result.require_agreement();
         }
     });
-}
-
-/// Primary rays of `blocks` pixel blocks, `block_w` x `block_h` pixels each, of a 640 x 360 image
-/// of the camera (../shared/BENCHMARK.md's pinhole); a block's rays are consecutive. The first
-/// block sits at the image centre, where packets straddle the view axis; the others at random.
-std::vector<Ray> pixel_block_rays(const CameraSpec& camera, int block_w, int block_h, std::size_t blocks,
-                                  std::uint32_t seed) {
-    constexpr int width = 640, height = 360;
-    constexpr float kPi = 3.14159265358979f;
-    const Vec3f forward = normalize(camera.target - camera.eye);
-    const Vec3f right = normalize(cross(forward, camera.up));
-    const Vec3f up = cross(right, forward);
-    const float ty = std::tan(camera.fov_y_deg * kPi / 360.0f), tx = ty * float(width) / float(height);
-    std::mt19937 rng(seed);
-    std::uniform_int_distribution<int> column(0, width - block_w), row(0, height - block_h);
-    std::vector<Ray> rays;
-    for (std::size_t b = 0; b < blocks; ++b) {
-        const int x0 = b == 0 ? (width - block_w) / 2 : column(rng), y0 = b == 0 ? (height - block_h) / 2 : row(rng);
-        for (int y = y0; y < y0 + block_h; ++y)
-            for (int x = x0; x < x0 + block_w; ++x) {
-                const float sx = (2.0f * (float(x) + 0.5f) / float(width) - 1.0f) * tx;
-                const float sy = (1.0f - 2.0f * (float(y) + 0.5f) / float(height)) * ty;
-                rays.push_back({camera.eye, normalize(forward + sx * right + sy * up)});
-            }
-    }
-    return rays;
-}
-
-constexpr std::pair<int, int> packet_block(std::size_t width) {
-    return {width == 4 ? 2 : 4, int(width) / (width == 4 ? 2 : 4)};
 }
 
 /// Bundles of 16 rays through one point of a split plane, in packet order: all start on the
@@ -195,41 +95,6 @@ std::vector<Ray> split_plane_bundles(const KdTree& tree, std::size_t max_planes,
                 rays.push_back(ray);
             }
         }
-    }
-    return rays;
-}
-
-/// Rays from `origin` whose direction components take every sign, +0 and -0 included, cycling so
-/// that each packet holds lanes of several octants.
-std::vector<Ray> rays_of_every_sign(const Vec3f& origin, std::size_t count, std::uint32_t seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> magnitude(0.05f, 1.0f);
-    std::vector<Ray> rays;
-    for (std::size_t i = 0; i < count; ++i) {
-        Vec3f d;
-        for (int axis = 0; axis < 3; ++axis) {
-            const std::size_t choice = (i >> (2 * axis)) % 4;  // positive, negative, +0, -0
-            d[axis] = choice == 0 ? magnitude(rng) : choice == 1 ? -magnitude(rng) : choice == 2 ? 0.0f : -0.0f;
-        }
-        if (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f) d.x = -1.0f;
-        rays.push_back({origin, d});
-    }
-    return rays;
-}
-
-/// Rays from random points inside the box in random directions, with random [tmin, tmax] windows.
-std::vector<Ray> windowed_rays_from_inside(const Aabb& box, std::size_t count, std::uint32_t seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> unit(0.0f, 1.0f), sym(-1.0f, 1.0f);
-    const Vec3f extent = box.extent();
-    std::vector<Ray> rays;
-    for (std::size_t i = 0; i < count; ++i) {
-        Ray ray;
-        ray.origin = box.lo + Vec3f{unit(rng) * extent.x, unit(rng) * extent.y, unit(rng) * extent.z};
-        ray.dir = normalize(Vec3f{sym(rng), sym(rng), sym(rng)});
-        ray.tmin = unit(rng) * 0.5f;
-        ray.tmax = i % 3 == 0 ? kInfinity : ray.tmin + unit(rng) * 2.0f;
-        rays.push_back(ray);
     }
     return rays;
 }
@@ -356,7 +221,8 @@ TEST_CASE(
         for_each_packet_arch([&]<class Arch>() {
             constexpr int width = int(RayPacket<Arch>::width);
             const auto [block_w, block_h] = packet_block(width);
-            const std::vector<Ray> blocks = pixel_block_rays(scene.camera, block_w, block_h, 40, 91);
+            const std::vector<Ray> blocks =
+                pixel_block_rays(scene.camera, 640, 360, int(block_w), int(block_h), 40, 91);
             const std::vector<Ray> random = camera_rays(scene.camera, 160, 92);
             for (const std::span<const Ray> rays : {std::span<const Ray>(blocks), std::span<const Ray>(random)}) {
                 for (const PacketComparison& result :
@@ -374,36 +240,22 @@ TEST_CASE("the counters count per packet: at least the busiest lane's work, at m
     for_each_packet_arch([&]<class Arch>() {
         constexpr std::size_t width = RayPacket<Arch>::width;
         const auto [block_w, block_h] = packet_block(width);
-        const std::vector<Ray> rays = pixel_block_rays(scene.camera, block_w, block_h, 60, 101);
-        std::size_t below_busiest = 0, above_sum = 0, shared_packets = 0;
-        TraversalCounters packets, lanes;
+        const std::vector<Ray> rays = pixel_block_rays(scene.camera, 640, 360, int(block_w), int(block_h), 60, 101);
+        PacketWorkTally tally;
         for (std::size_t first = 0; first < rays.size(); first += width) {
-            const RayPacket<Arch> packet(std::span<const Ray>(rays).subspan(first, width));
+            const std::span<const Ray> chunk = std::span(rays).subspan(first, width);
+            const RayPacket<Arch> packet(chunk);
             if (!packet.shares_octant()) continue;  // octant groups each walk the tree
-            ++shared_packets;
             HitPacket<Arch> hits(packet);
-            TraversalCounters one_packet, busiest, sum;
+            TraversalCounters one_packet;
             tree.intersect<TriangleTest::watertight, SlabTest::robust, Arch, TraversalCounters, 0>(packet, hits,
                                                                                                    one_packet);
-            for (std::size_t i = first; i < first + width; ++i) {
-                TraversalCounters one_ray;
-                tree.intersect<TriangleTest::watertight>(rays[i], one_ray);
-                busiest.nodes_visited = std::max(busiest.nodes_visited, one_ray.nodes_visited);
-                busiest.triangles_tested = std::max(busiest.triangles_tested, one_ray.triangles_tested);
-                sum += one_ray;
-            }
-            below_busiest += one_packet.nodes_visited < busiest.nodes_visited ||
-                             one_packet.triangles_tested < busiest.triangles_tested;
-            above_sum +=
-                one_packet.nodes_visited > sum.nodes_visited || one_packet.triangles_tested > sum.triangles_tested;
-            packets += one_packet;
-            lanes += sum;
+            tally.add(one_packet, chunk, [&](const Ray& ray, TraversalCounters& one_ray) {
+                tree.intersect<TriangleTest::watertight>(ray, one_ray);
+            });
         }
-        CHECK(shared_packets > 40);
-        CHECK(below_busiest == 0);
-        CHECK(above_sum == 0);
-        // Coherent packets share most of their lanes' work.
-        CHECK(packets.nodes_visited * 2 < lanes.nodes_visited);
+        CHECK(tally.counted > 40);
+        tally.require_bounds();
     });
 }
 
@@ -412,7 +264,7 @@ TEST_CASE("an any-hit packet retires each lane at its first hit: less work than 
     for_each_packet_arch([&]<class Arch>() {
         constexpr std::size_t width = RayPacket<Arch>::width;
         const auto [block_w, block_h] = packet_block(width);
-        const std::vector<Ray> rays = pixel_block_rays(scene.camera, block_w, block_h, 40, 111);
+        const std::vector<Ray> rays = pixel_block_rays(scene.camera, 640, 360, int(block_w), int(block_h), 40, 111);
         TraversalCounters closest, any;
         for (std::size_t first = 0; first < rays.size(); first += width) {
             const RayPacket<Arch> packet(std::span<const Ray>(rays).subspan(first, width));

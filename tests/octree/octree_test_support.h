@@ -103,23 +103,4 @@ inline std::vector<Ray> rays_along_the_planes(const Octree& tree, std::uint32_t 
     return rays;
 }
 
-/// Rays from inside the scene, with random [tmin, tmax) windows.
-inline std::vector<Ray> windowed_rays_from_inside(const Aabb& box, std::size_t count, std::uint32_t seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> unit(0.0f, 1.0f), sym(-1.0f, 1.0f);
-    const float diagonal = length(box.extent());
-    std::vector<Ray> rays;
-    for (std::size_t i = 0; i < count; ++i) {
-        Ray ray;
-        ray.origin = box.lo + Vec3f{unit(rng), unit(rng), unit(rng)} * box.extent();
-        ray.dir = normalize(Vec3f{sym(rng), sym(rng), sym(rng)});
-        if (i % 2 == 0) {
-            ray.tmin = unit(rng) * 0.3f * diagonal;
-            ray.tmax = ray.tmin + unit(rng) * diagonal;
-        }
-        rays.push_back(ray);
-    }
-    return rays;
-}
-
 }  // namespace trident::testing

@@ -6,10 +6,7 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
-#include <cmath>
 #include <cstdint>
-#include <functional>
 #include <optional>
 #include <random>
 #include <span>
@@ -21,6 +18,7 @@
 #include "octree/octree_test_support.h"
 #include "simd/each_arch.h"
 #include "support/camera_rays.h"
+#include "support/packet_agreement.h"
 #include "support/random_scenes.h"
 
 #if __has_include("scenes/builtin.h")
@@ -33,100 +31,28 @@ using namespace trident::testing;
 
 namespace {
 
-/// Which lanes of each packet to switch off, by lane index.
-using LaneFilter = std::function<bool(std::size_t)>;
-
-struct PacketComparison {
-    std::size_t lanes = 0;      // lanes compared
-    std::size_t hits = 0;       // of them, single-ray hits (to see the test is not vacuous)
-    std::size_t closest = 0;    // lanes whose closest hit differs in any bit
-    std::size_t occluded = 0;   // lanes whose any-hit answer differs
-    std::size_t untouched = 0;  // lanes not traced whose hit record changed anyway
-    std::size_t padding = 0;    // lanes past the rays, reported occluded
-
-    void require_agreement() const {
-        CHECK(lanes > 0);
-        CHECK(closest == 0);
-        CHECK(occluded == 0);
-        CHECK(untouched == 0);
-        CHECK(padding == 0);
-    }
-};
-
-bool same_bits(const Hit& a, const Hit& b) {
-    return a.triangle == b.triangle && std::bit_cast<std::uint32_t>(a.t) == std::bit_cast<std::uint32_t>(b.t) &&
-           std::bit_cast<std::uint32_t>(a.u) == std::bit_cast<std::uint32_t>(b.u) &&
-           std::bit_cast<std::uint32_t>(a.v) == std::bit_cast<std::uint32_t>(b.v);
-}
-
-/// The raw lanes of a hit packet (misses included as they are, not as Hit{}).
-template <class Arch>
-struct HitLanes {
-    static constexpr std::size_t width = HitPacket<Arch>::width;
-    std::array<std::uint32_t, width> triangle;
-    std::array<float, width> t, u, v;
-
-    explicit HitLanes(const HitPacket<Arch>& hits) {
-        hits.triangle.store_unaligned(triangle.data());
-        hits.t.store_unaligned(t.data());
-        hits.u.store_unaligned(u.data());
-        hits.v.store_unaligned(v.data());
-    }
-    Hit lane(std::size_t i) const { return {triangle[i], t[i], u[i], v[i]}; }
-};
-
-/// Traces `rays` in packets of consecutive rays (the last one partial), with the lanes `off`
-/// names switched off, closest hit and any hit, and compares every lane with the single-ray
-/// traversal. A lane switched off, or with tmin > tmax, must keep the record it arrived with.
-/// With `single_ray_lanes`, traces through traverse_octree_packet() with that switch to single
-/// rays instead of the structure's members.
+/// compare_packet_lanes() for the octree's packets; no ties allowed (octree_packet.h). With
+/// `single_ray_lanes`, traces through traverse_octree_packet() with that switch to single rays
+/// instead of the structure's members.
 template <class Arch, TriangleTest Test = TriangleTest::watertight, SlabTest Slabs = SlabTest::robust>
 PacketComparison compare_packets(const Octree& tree, std::span<const Ray> rays, std::size_t rays_per_packet = 0,
                                  const LaneFilter& off = {}, std::optional<int> single_ray_lanes = {}) {
-    constexpr std::size_t width = RayPacket<Arch>::width;
-    using Mask = typename RayPacket<Arch>::Mask;
-    const std::size_t step = rays_per_packet == 0 ? width : std::min(rays_per_packet, width);
-    PacketComparison out;
     NoCounters none;
-    for (std::size_t first = 0; first < rays.size(); first += step) {
-        const std::span<const Ray> chunk = rays.subspan(first, std::min(step, rays.size() - first));
-        RayPacket<Arch> packet(chunk);
-        std::array<bool, width> live{};
-        for (std::size_t i = 0; i < chunk.size(); ++i) live[i] = !(off && off(i));
-        packet.active = packet.active & Mask::load_unaligned(live.data());
-
-        const HitPacket<Arch> arrived(packet);
-        HitPacket<Arch> hits(packet);
-        std::uint32_t occluded = 0;
-        if (single_ray_lanes) {
+    return compare_packet_lanes<Arch>(
+        rays, rays_per_packet, off,
+        [&](const RayPacket<Arch>& packet, HitPacket<Arch>& hits) {
+            if (!single_ray_lanes) {
+                tree.intersect<Test, Slabs>(packet, hits, none);
+                return simd::mask_bits(tree.occluded<Test, Slabs>(packet, none));
+            }
             traverse_octree_packet<OctreeQuery::closest_hit, Test, Slabs>(tree.view(), packet, hits, none,
                                                                           *single_ray_lanes);
             HitPacket<Arch> any(packet);
-            occluded = simd::mask_bits(traverse_octree_packet<OctreeQuery::any_hit, Test, Slabs>(
-                tree.view(), packet, any, none, *single_ray_lanes));
-        } else {
-            tree.intersect<Test, Slabs>(packet, hits, none);
-            occluded = simd::mask_bits(tree.occluded<Test, Slabs>(packet, none));
-        }
-        const HitLanes<Arch> before(arrived), after(hits);
-
-        for (std::size_t i = 0; i < width; ++i) {
-            const bool traced = i < chunk.size() && live[i] && chunk[i].tmin <= chunk[i].tmax;
-            if (!traced) out.untouched += !same_bits(before.lane(i), after.lane(i));
-            if (i >= chunk.size()) {
-                out.padding += (occluded >> i) & 1u;
-                continue;
-            }
-            ++out.lanes;
-            const Hit expected = live[i] ? tree.intersect<Test, Slabs>(chunk[i], none) : Hit{};
-            const bool expected_occluded = live[i] && tree.occluded<Test, Slabs>(chunk[i], none);
-            out.hits += expected.is_hit();
-            const Hit got = after.lane(i).is_hit() ? after.lane(i) : Hit{};
-            out.closest += !same_bits(got, expected);
-            out.occluded += bool((occluded >> i) & 1u) != expected_occluded;
-        }
-    }
-    return out;
+            return simd::mask_bits(traverse_octree_packet<OctreeQuery::any_hit, Test, Slabs>(tree.view(), packet, any,
+                                                                                             none, *single_ray_lanes));
+        },
+        [&](const Ray& ray) { return tree.intersect<Test, Slabs>(ray, none); },
+        [&](const Ray& ray) { return tree.occluded<Test, Slabs>(ray, none); });
 }
 
 /// Every packet width this machine runs, each on the same rays.
@@ -137,52 +63,6 @@ void check_packets(const Octree& tree, std::span<const Ray> rays, const LaneFilt
         CHECK(result.hits > 0);
         result.require_agreement();
     });
-}
-
-/// Primary rays of pixel blocks, `block_w` x `block_h` pixels each, in a `width` x `height` image
-/// of the camera of ../shared/BENCHMARK.md, evaluated as it writes them; a block's rays are
-/// consecutive, row by row. The first block sits at the image centre, the others at random.
-std::vector<Ray> pixel_block_rays(const CameraSpec& camera, int width, int height, int block_w, int block_h,
-                                  std::size_t blocks, std::uint32_t seed) {
-    constexpr float kPi = 3.14159265358979f;
-    const Vec3f forward = normalize(camera.target - camera.eye);
-    const Vec3f right = normalize(cross(forward, camera.up));
-    const Vec3f up = cross(right, forward);
-    const float ty = std::tan(camera.fov_y_deg * kPi / 360.0f), tx = ty * float(width) / float(height);
-    std::mt19937 rng(seed);
-    std::uniform_int_distribution<int> column(0, width - block_w), row(0, height - block_h);
-    std::vector<Ray> rays;
-    for (std::size_t b = 0; b < blocks; ++b) {
-        const int x0 = b == 0 ? (width - block_w) / 2 : column(rng), y0 = b == 0 ? (height - block_h) / 2 : row(rng);
-        for (int y = y0; y < y0 + block_h; ++y)
-            for (int x = x0; x < x0 + block_w; ++x) {
-                const float sx = (2.0f * (float(x) + 0.5f) / float(width) - 1.0f) * tx;
-                const float sy = (1.0f - 2.0f * (float(y) + 0.5f) / float(height)) * ty;
-                rays.push_back({camera.eye, normalize(forward + sx * right + sy * up)});
-            }
-    }
-    return rays;
-}
-
-/// Rays from `origin` whose direction components take every sign, +0 and -0 included, cycling so
-/// that each packet holds lanes of several octants.
-std::vector<Ray> rays_of_every_sign(const Vec3f& origin, std::size_t count, std::uint32_t seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> magnitude(0.05f, 1.0f);
-    std::vector<Ray> rays;
-    for (std::size_t i = 0; i < count; ++i) {
-        Vec3f d;
-        for (int axis = 0; axis < 3; ++axis) {
-            const std::size_t choice = (i >> (2 * axis)) % 4;  // positive, negative, +0, -0
-            d[axis] = choice == 0 ? magnitude(rng) : choice == 1 ? -magnitude(rng) : choice == 2 ? 0.0f : -0.0f;
-        }
-        if (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f) d.x = -1.0f;
-        const float zero_x = d.x;
-        d = d / length(d);
-        if (zero_x == 0.0f) d.x = zero_x;  // keep the sign of a zero
-        rays.push_back({origin, d});
-    }
-    return rays;
 }
 
 }  // namespace
@@ -365,32 +245,18 @@ TEST_CASE("the counters count per packet: at least the busiest lane's work, at m
     for_each_packet_arch([&]<class Arch>() {
         constexpr std::size_t width = RayPacket<Arch>::width;
         const std::vector<Ray> rays = pixel_block_rays(camera, 64, 36, int(width / 4), 4, 30, 72);
-        TraversalCounters packets, lanes;
-        std::size_t below_busiest = 0, above_sum = 0;
+        PacketWorkTally tally;
         for (std::size_t first = 0; first < rays.size(); first += width) {
             const std::span<const Ray> chunk = std::span(rays).subspan(first, width);
             const RayPacket<Arch> packet(chunk);
             HitPacket<Arch> hits(packet);
-            TraversalCounters one_packet, busiest, sum;
+            TraversalCounters one_packet;
             tree.intersect<TriangleTest::watertight>(packet, hits, one_packet);
-            for (const Ray& ray : chunk) {
-                TraversalCounters one;
-                tree.intersect<TriangleTest::watertight>(ray, one);
-                busiest.nodes_visited = std::max(busiest.nodes_visited, one.nodes_visited);
-                busiest.triangles_tested = std::max(busiest.triangles_tested, one.triangles_tested);
-                sum += one;
-            }
-            below_busiest += one_packet.nodes_visited < busiest.nodes_visited ||
-                             one_packet.triangles_tested < busiest.triangles_tested;
-            above_sum +=
-                one_packet.nodes_visited > sum.nodes_visited || one_packet.triangles_tested > sum.triangles_tested;
-            packets += one_packet;
-            lanes += sum;
+            tally.add(one_packet, chunk, [&](const Ray& ray, TraversalCounters& one_ray) {
+                tree.intersect<TriangleTest::watertight>(ray, one_ray);
+            });
         }
-        CHECK(below_busiest == 0);
-        CHECK(above_sum == 0);
-        // The point of packets: coherent lanes share most of their nodes.
-        CHECK(2 * packets.nodes_visited < lanes.nodes_visited);
+        tally.require_bounds();
     });
 }
 

@@ -55,4 +55,43 @@ inline std::vector<Ray> random_rays(const Aabb& box, std::size_t count, std::uin
     return rays;
 }
 
+/// Rays from `origin` whose direction components take every sign, +0 and -0 included, cycling so
+/// that each packet holds lanes of several octants. Not normalized: zero components keep their
+/// sign, and a traversal must not care about the length.
+inline std::vector<Ray> rays_of_every_sign(const Vec3f& origin, std::size_t count, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> magnitude(0.05f, 1.0f);
+    std::vector<Ray> rays;
+    for (std::size_t i = 0; i < count; ++i) {
+        Vec3f d;
+        for (int axis = 0; axis < 3; ++axis) {
+            const std::size_t choice = (i >> (2 * axis)) % 4;  // positive, negative, +0, -0
+            d[axis] = choice == 0 ? magnitude(rng) : choice == 1 ? -magnitude(rng) : choice == 2 ? 0.0f : -0.0f;
+        }
+        if (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f) d.x = -1.0f;
+        rays.push_back({origin, d});
+    }
+    return rays;
+}
+
+/// Rays from random points inside the box in random directions; every other one with a random
+/// [tmin, tmax] window scaled to the box's diagonal.
+inline std::vector<Ray> windowed_rays_from_inside(const Aabb& box, std::size_t count, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f), sym(-1.0f, 1.0f);
+    const float diagonal = length(box.extent());
+    std::vector<Ray> rays;
+    for (std::size_t i = 0; i < count; ++i) {
+        Ray ray;
+        ray.origin = box.lo + Vec3f{unit(rng), unit(rng), unit(rng)} * box.extent();
+        ray.dir = normalize(Vec3f{sym(rng), sym(rng), sym(rng)});
+        if (i % 2 == 0) {
+            ray.tmin = unit(rng) * 0.3f * diagonal;
+            ray.tmax = ray.tmin + unit(rng) * diagonal;
+        }
+        rays.push_back(ray);
+    }
+    return rays;
+}
+
 }  // namespace trident::testing
