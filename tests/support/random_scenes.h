@@ -56,8 +56,8 @@ inline std::vector<Ray> random_rays(const Aabb& box, std::size_t count, std::uin
 }
 
 /// Rays from `origin` whose direction components take every sign, +0 and -0 included, cycling so
-/// that each packet holds lanes of several octants. Not normalized: zero components keep their
-/// sign, and a traversal must not care about the length.
+/// that each packet holds lanes of several octants. Not normalized: no traversal may depend on a
+/// direction's length.
 inline std::vector<Ray> rays_of_every_sign(const Vec3f& origin, std::size_t count, std::uint32_t seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> magnitude(0.05f, 1.0f);
