@@ -18,7 +18,6 @@
 
 #include "accel/accel_stats.h"
 #include "core/ray.h"
-#include "simd/mask.h"
 #include "simd/packet.h"
 
 namespace trident::testing {
