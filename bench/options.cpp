@@ -18,7 +18,7 @@ namespace {
 struct Arguments {
     std::vector<std::string> scenes, only, accel, simd, threads, embree, triangle_tests, slabs;
     std::optional<std::string> embree_quality;
-    std::vector<std::string> rays;
+    std::vector<std::string> rays, paired;
     std::optional<std::filesystem::path> manifest, reference_hits, dump_hits, csv, json, markdown;
     std::optional<std::string> sweep;
     std::string reference = "auto";
@@ -175,6 +175,22 @@ ReferenceChoice resolve_reference(const Arguments& args) {
     return choice;
 }
 
+std::vector<PairPartner> resolve_paired(const std::vector<std::string>& names) {
+    std::vector<PairPartner> partners;
+    for (const std::string& name : names) {
+        if (name == "scalar")
+            push_unique(partners, PairPartner::scalar);
+        else if (name == "bvh")
+            push_unique(partners, PairPartner::bvh);
+        else if (name == "embree") {
+            if (!kHaveEmbree) refuse("--paired embree: this binary was built without Embree 3");
+            push_unique(partners, PairPartner::embree);
+        } else
+            refuse(fmt::format("--paired {}: expected scalar, bvh or embree", name));
+    }
+    return partners;
+}
+
 std::vector<RayKind> resolve_ray_kinds(const std::vector<std::string>& names) {
     std::vector<RayKind> kinds;
     for (const std::string& name : names) {
@@ -223,6 +239,7 @@ BenchOptions resolve(const Arguments& args, const CLI::App& app) {
     options.quiet = args.quiet;
     options.scaling = args.scaling;
     options.vs_single = args.vs_single;
+    options.paired = resolve_paired(args.paired);
     return options;
 }
 
@@ -274,6 +291,11 @@ void add_options(CLI::App& app, Arguments& args) {
     app.add_flag("--vs-single", args.vs_single,
                  "packet rows of shadow and diffuse rays also time the same rays as single rays right after each "
                  "run; their speed-up over single rays is the median of the pairs' ratios");
+    app.add_option("--paired", args.paired,
+                   "partners each primary row is timed against run by run, comma separated: scalar (the same "
+                   "structure's single rays), bvh (the BVH at the same traversal), embree (rtcIntersect1/4/8/16 "
+                   "of the same width); each ratio is the median of the pairs'")
+        ->delimiter(',');
 }
 
 }  // namespace

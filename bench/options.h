@@ -1,6 +1,7 @@
 #pragma once
 // trident-bench's command line, parsed and checked: every bad value is refused here with one line
 // naming the option, before anything is loaded or built.
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -37,6 +38,14 @@ struct ReferenceChoice {
     std::filesystem::path file;
 };
 
+/// What a primary row can be timed against in pairs (--paired): the partner's render runs right
+/// after each of the row's, on the same rays, so the two drift together on a shared machine.
+enum class PairPartner {
+    scalar,  // the same structure's single-ray traversal (packet rows)
+    bvh,     // the BVH at the same traversal (KD-tree and octree rows)
+    embree,  // Embree's call of the same width: rtcIntersect1 for scalar, rtcIntersectN for simdN
+};
+
 struct BenchOptions {
     std::vector<std::string> scene_specs;           // --scene: built-in names or .obj paths
     std::optional<std::filesystem::path> manifest;  // --scenes
@@ -60,6 +69,11 @@ struct BenchOptions {
     /// --vs-single: packet rows of shadow and diffuse rays also time the same rays as single rays
     /// right after each run.
     bool vs_single = false;
+    /// --paired: the partners every primary row of ours is timed against, each run by run.
+    std::vector<PairPartner> paired;
+    bool pairs_with(PairPartner partner) const {
+        return std::find(paired.begin(), paired.end(), partner) != paired.end();
+    }
     std::string command_line;
 };
 

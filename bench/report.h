@@ -52,6 +52,11 @@ struct BenchRow {
     /// --vs-single, packet rows of shadow and diffuse rays: the median over the timed runs of (the
     /// same rays' time as single rays, taken right after) / (this row's time).
     std::optional<double> speedup_over_single_rays;
+    /// --paired, primary rows of ours: the median over the timed runs of (the partner's time on the
+    /// same rays, taken right after) / (this row's time), so above 1 is faster than the partner.
+    /// Partners: the same structure's scalar traversal (packet rows), the BVH at the same traversal
+    /// (KD-tree and octree rows), Embree's call of the same width.
+    std::optional<double> paired_over_scalar, paired_over_bvh, paired_over_embree;
 
     std::string sweep_parameter;
     std::optional<double> sweep_value;

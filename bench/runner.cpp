@@ -160,10 +160,31 @@ private:
             report_.notes.insert(report_.notes.end(), ray_sets_.notes.begin(), ray_sets_.notes.end());
         }
 
+        partner_hits_.assign(hits_.size(), Hit{});
+        // --paired bvh: one BVH of the default options per scene for the other structures' rows.
+        std::optional<AnyAccel> bvh_partner;
+        if (options_.pairs_with(PairPartner::bvh) &&
+            std::any_of(configs_.begin(), configs_.end(),
+                        [](const StructureConfig& c) { return c.kind != AccelKind::bvh; })) {
+            progress_.show(fmt::format("{}: building the BVH to pair with", loaded.scene.name));
+            bvh_partner.emplace(AnyAccel::build(AccelKind::bvh, loaded.scene.mesh, AccelOptions{}));
+        }
+
         const std::size_t first_row = report_.rows.size();
         for (int threads : options_.threads) {
             const tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
-            const SceneRun run{loaded, camera, reference, threads};
+            SceneRun run{loaded, camera, reference, threads, bvh_partner ? &*bvh_partner : nullptr};
+#if TRIDENT_HAVE_EMBREE
+            // --paired embree: Embree's scene on a device of this row's thread count, as its own rows.
+            std::optional<EmbreeDevice> embree_device;
+            std::optional<EmbreeScene> embree_partner;
+            if (options_.pairs_with(PairPartner::embree)) {
+                progress_.show(fmt::format("{}: building Embree's scene to pair with", loaded.scene.name));
+                embree_device.emplace(threads);
+                embree_partner.emplace(*embree_device, loaded.scene.mesh, options_.embree_quality);
+                run.embree_partner = &*embree_partner;
+            }
+#endif
             if (runs_embree(options_)) run_embree(run);
             for (const StructureConfig& config : configs_) run_structure(run, config);
         }
@@ -175,6 +196,10 @@ private:
         const Camera& camera;
         const ReferenceTrace& reference;
         int threads;
+        const AnyAccel* bvh_partner = nullptr;  // --paired bvh
+#if TRIDENT_HAVE_EMBREE
+        const EmbreeScene* embree_partner = nullptr;  // --paired embree
+#endif
     };
 
     BenchRow start_row(const SceneRun& run, std::string structure, std::string traversal) const {
@@ -198,22 +223,29 @@ private:
                                  : fmt::format("{}/{}", run - kWarmupRuns + 1, options_.repeats);
     }
 
+    /// A trace timed right after each of a row's renders, on the same rays; the median of its time
+    /// over the render's goes into the row's field `ratio`.
+    struct Partner {
+        std::function<void()> trace;
+        std::optional<double> BenchRow::*ratio;
+    };
+
     /// Times the row's renders into row.render_ms. With --scaling, a row at more than one thread
     /// also times each render again on one thread right after it, into
     /// row.speedup_over_one_thread: the two times of a pair are seconds apart, so they drift
-    /// together on a shared machine, where the rows at one thread ran minutes earlier.
-    /// With `single_rays` (--vs-single), each render is followed the same way by single_rays(),
-    /// the same rays traced one at a time, into row.speedup_over_single_rays.
+    /// together on a shared machine, where the rows at one thread ran minutes earlier. Each of
+    /// `partners` (--vs-single, --paired) is timed the same way after each render.
     template <class TraceOnce>
     void time_renders(const std::string& what, BenchRow& row, TraceOnce&& trace_once,
-                      const std::function<void()>& single_rays = {}) {
+                      std::span<const Partner> partners = {}) {
         auto timed = [](auto&& trace) {
             const auto start = std::chrono::steady_clock::now();
             trace();
             return ms_since(start);
         };
         const bool paired = options_.scaling && row.threads > 1;
-        std::vector<double> speedups, over_single;
+        std::vector<double> speedups;
+        std::vector<std::vector<double>> partner_ratios(partners.size());
         row.render_ms = measure_repeated(options_.repeats, [&](int run) {
             progress_.show(fmt::format("{}: render {}", what, run_label(run)));
             const double ms = timed(trace_once);
@@ -223,14 +255,15 @@ private:
                 const double one_thread_ms = timed(trace_once);
                 if (run >= kWarmupRuns) speedups.push_back(one_thread_ms / ms);
             }
-            if (single_rays) {
-                const double single_ms = timed(single_rays);
-                if (run >= kWarmupRuns) over_single.push_back(single_ms / ms);
+            for (std::size_t i = 0; i < partners.size(); ++i) {
+                const double partner_ms = timed(partners[i].trace);
+                if (run >= kWarmupRuns) partner_ratios[i].push_back(partner_ms / ms);
             }
             return ms;
         });
         if (paired) row.speedup_over_one_thread = summarize(std::move(speedups)).median;
-        if (single_rays) row.speedup_over_single_rays = summarize(std::move(over_single)).median;
+        for (std::size_t i = 0; i < partners.size(); ++i)
+            row.*partners[i].ratio = summarize(std::move(partner_ratios[i])).median;
     }
 
     /// The error against the reference, the hit buffer dump, and the row into the report.
@@ -314,9 +347,10 @@ private:
             row.build_ms = build;
             occluded_.resize(ray_sets_.shadow.rays.size());
             const StreamTraversal shadow{width, PacketGrouping::in_order};
-            std::function<void()> single_rays;
+            std::vector<Partner> single_rays;
             if (options_.vs_single && width != SimdWidth::scalar)
-                single_rays = [&] { occlude_stream_parallel(accel, ray_sets_.shadow.rays, occluded_, {}); };
+                single_rays.push_back({[&] { occlude_stream_parallel(accel, ray_sets_.shadow.rays, occluded_, {}); },
+                                       &BenchRow::speedup_over_single_rays});
             time_renders(
                 fmt::format("{} {} shadow", what, row.traversal), row,
                 [&] { occlude_stream_parallel(accel, ray_sets_.shadow.rays, occluded_, shadow); }, single_rays);
@@ -329,9 +363,11 @@ private:
             // Each row times exactly its traversal; the renderer's pick per structure is incoherent_traversal().
             const StreamTraversal diffuse{width, PacketGrouping::by_octant};
             if (width != SimdWidth::scalar) row.note = fmt::format("packets {}", to_string(diffuse.grouping));
-            std::function<void()> single_rays;
+            std::vector<Partner> single_rays;
             if (options_.vs_single && width != SimdWidth::scalar)
-                single_rays = [&] { intersect_stream_parallel(accel, ray_sets_.diffuse.rays, secondary_hits_, {}); };
+                single_rays.push_back(
+                    {[&] { intersect_stream_parallel(accel, ray_sets_.diffuse.rays, secondary_hits_, {}); },
+                     &BenchRow::speedup_over_single_rays});
             time_renders(
                 fmt::format("{} {} diffuse", what, row.traversal), row,
                 [&] { intersect_stream_parallel(accel, ray_sets_.diffuse.rays, secondary_hits_, diffuse); },
@@ -390,8 +426,26 @@ private:
             default_variant ? what_structure
                             : fmt::format("{} ({}, {} slabs)", what_structure, to_string(test), to_string(slabs));
         row.build_ms = build;
-        time_renders(fmt::format("{} {}", what, row.traversal), row,
-                     [&] { trace_primary(accel, run.camera, hits_, test, simd_width(traversal), slabs); });
+        // --paired: the partners trace into their own buffer, so the row's hits stay for its error.
+        std::vector<Partner> partners;
+        if (options_.pairs_with(PairPartner::scalar) && traversal != Traversal::scalar)
+            partners.push_back(
+                {[&] { trace_primary(accel, run.camera, partner_hits_, test, SimdWidth::scalar, slabs); },
+                 &BenchRow::paired_over_scalar});
+        if (run.bvh_partner && config.kind != AccelKind::bvh)
+            partners.push_back({[&] {
+                                    trace_primary(*run.bvh_partner, run.camera, partner_hits_, test,
+                                                  simd_width(traversal), slabs);
+                                },
+                                &BenchRow::paired_over_bvh});
+#if TRIDENT_HAVE_EMBREE
+        if (run.embree_partner)
+            partners.push_back({[&] { run.embree_partner->trace(run.camera, rays_per_call(traversal), partner_hits_); },
+                                &BenchRow::paired_over_embree});
+#endif
+        time_renders(
+            fmt::format("{} {}", what, row.traversal), row,
+            [&] { trace_primary(accel, run.camera, hits_, test, simd_width(traversal), slabs); }, partners);
         row.nodes = stats.nodes;
         row.leaves = stats.leaves;
         row.max_depth = stats.max_depth;
@@ -429,6 +483,7 @@ private:
     Progress progress_;
     BenchReport report_;
     std::vector<Hit> hits_;               // one image of hits, reused by every trace
+    std::vector<Hit> partner_hits_;       // the same for the --paired partners' traces
     SceneRaySets ray_sets_;               // the scene's shadow and diffuse rays (--rays)
     std::vector<std::uint8_t> occluded_;  // shadow results, reused
     std::vector<Hit> secondary_hits_;     // diffuse results, reused

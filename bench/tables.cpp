@@ -116,6 +116,29 @@ const BenchRow* find_row(const BenchReport& report, const TableKey& key, const s
 
 using RowFigure = std::function<std::string(const BenchRow&)>;
 
+/// A --paired figure as the tables show it.
+struct PairedColumn {
+    const char* label;
+    std::optional<double> BenchRow::*ratio;
+};
+
+/// The --paired figures some row of the report has, in a fixed order.
+std::vector<PairedColumn> paired_columns(const BenchReport& report) {
+    std::vector<PairedColumn> present;
+    for (const PairedColumn& column :
+         {PairedColumn{"x scalar", &BenchRow::paired_over_scalar}, PairedColumn{"x BVH", &BenchRow::paired_over_bvh},
+          PairedColumn{"x Embree", &BenchRow::paired_over_embree}})
+        if (std::any_of(report.rows.begin(), report.rows.end(),
+                        [&](const BenchRow& r) { return (r.*column.ratio).has_value(); }))
+            present.push_back(column);
+    return present;
+}
+
+constexpr const char* kPairedFootnote =
+    "x scalar / x BVH / x Embree (--paired): each timed render was followed by its partner's on the same rays "
+    "(the same structure's scalar traversal; the BVH at the same traversal; Embree's rtcIntersect1 or "
+    "rtcIntersectN of the same width); the median of the pairs' time ratios, partner over row.";
+
 }  // namespace
 
 std::vector<std::string> report_header_lines(const BenchReport& report) {
@@ -222,6 +245,8 @@ TextTable configurations_table(const BenchReport& report) {
     const bool vs_single = std::any_of(report.rows.begin(), report.rows.end(),
                                        [](const BenchRow& r) { return r.speedup_over_single_rays.has_value(); });
     if (vs_single) table.header.push_back("x single rays");
+    const std::vector<PairedColumn> paired = paired_columns(report);
+    for (const PairedColumn& column : paired) table.header.push_back(fmt::format("{} paired", column.label));
     auto count = [](const std::optional<std::size_t>& n) { return n ? fmt::format("{}", *n) : std::string(kNone); };
     for (const BenchRow& r : report.rows) {
         std::vector<std::string> cells = {r.scene,
@@ -243,6 +268,7 @@ TextTable configurations_table(const BenchReport& report) {
              r.error ? figure(r.error->max_relative_t_difference) : kNone, figure(r.ratio_to_embree)});
         if (scaling) cells.push_back(figure(r.speedup_over_one_thread));
         if (vs_single) cells.push_back(figure(r.speedup_over_single_rays));
+        for (const PairedColumn& column : paired) cells.push_back(figure(r.*column.ratio));
         table.rows.push_back(std::move(cells));
     }
     table.footnotes.push_back(
@@ -257,6 +283,40 @@ TextTable configurations_table(const BenchReport& report) {
         table.footnotes.push_back(
             "x single rays (--vs-single): after each timed run of a packet row of shadow or diffuse rays, the same "
             "rays were traced as single rays; the median of the pairs' time ratios.");
+    if (!paired.empty()) table.footnotes.push_back(kPairedFootnote);
+    return table;
+}
+
+TextTable paired_ratio_table(const BenchReport& report) {
+    TextTable table;
+    table.title = "Paired speed ratios (--paired; above 1 is faster than the partner)";
+    const std::vector<PairedColumn> paired = paired_columns(report);
+    // One column per structure and partner that some row has.
+    struct Column {
+        std::string structure;
+        const PairedColumn* partner;
+    };
+    std::vector<Column> columns;
+    for (const std::string& s : table_structures(report, false))
+        for (const PairedColumn& partner : paired)
+            if (std::any_of(report.rows.begin(), report.rows.end(),
+                            [&](const BenchRow& r) { return r.structure == s && (r.*partner.ratio).has_value(); }))
+                columns.push_back({s, &partner});
+    table.header = {"scene", "threads", "traversal"};
+    for (const Column& c : columns)
+        table.header.push_back(fmt::format("{} {}", display_name(c.structure), c.partner->label));
+    for (const TableKey& key : table_keys(report)) {
+        std::vector<std::string> cells = {key.scene, fmt::format("{}", key.threads), key.traversal_label()};
+        bool any = false;
+        for (const Column& c : columns) {
+            const BenchRow* row = find_row(report, key, c.structure);
+            const std::optional<double> ratio = row ? row->*c.partner->ratio : std::nullopt;
+            any = any || ratio.has_value();
+            cells.push_back(figure(ratio));
+        }
+        if (any) table.rows.push_back(std::move(cells));
+    }
+    if (!table.rows.empty()) table.footnotes.push_back(kPairedFootnote);
     return table;
 }
 

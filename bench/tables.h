@@ -22,6 +22,10 @@ TextTable study_table(const BenchReport& report);
 /// One row per configuration with every figure, the swept parameter first in a sweep.
 TextTable configurations_table(const BenchReport& report);
 
+/// --paired: per scene, threads and traversal, each structure's median paired ratio over each
+/// partner; no rows without --paired.
+TextTable paired_ratio_table(const BenchReport& report);
+
 /// Our Mrays/s over Embree's on the same rays and threads; no rows without Embree.
 TextTable embree_ratio_table(const BenchReport& report);
 

@@ -61,6 +61,9 @@ const std::vector<std::string> kColumns = {"scene",
                                            "ratio_to_embree",
                                            "speedup_over_one_thread",
                                            "speedup_over_single_rays",
+                                           "paired_over_scalar",
+                                           "paired_over_bvh",
+                                           "paired_over_embree",
                                            "sweep_parameter",
                                            "sweep_value",
                                            "note"};
@@ -205,6 +208,38 @@ TEST_CASE("--vs-single times the packet rows of shadow and diffuse rays against 
         [](const nlohmann::json& row) { return row.at("traversal") != "scalar" && row.at("rays") != "primary"; });
     CHECK(paired == 2);  // shadow and diffuse rays of 4-lane packets
     CHECK(out.find("x single rays") != std::string::npos);
+}
+
+TEST_CASE("--paired times each primary row against the same structure's scalar rays and the BVH, run by run") {
+    const std::string options =
+        "--accel bvh,kdtree,octree --simd scalar,simd4 --threads 1 --embree none --paired scalar,bvh";
+    // Packet rows pair with their structure's single rays; the BVH does not pair with itself.
+    const auto [over_scalar, out] = paired_rows(
+        options, "paired_over_scalar", [](const nlohmann::json& row) { return row.at("traversal") != "scalar"; });
+    CHECK(over_scalar == 3);
+    CHECK(out.find("Paired speed ratios") != std::string::npos);
+    CHECK(out.find("KD x BVH") != std::string::npos);
+    const auto [over_bvh, _] =
+        paired_rows(options, "paired_over_bvh", [](const nlohmann::json& row) { return row.at("structure") != "bvh"; });
+    CHECK(over_bvh == 4);  // the KD-tree's and the octree's scalar and 4-lane rows
+    const auto [over_embree, __] =
+        paired_rows(options, "paired_over_embree", [](const nlohmann::json&) { return false; });
+    CHECK(over_embree == 0);
+}
+
+TEST_CASE("--paired embree times each of our primary rows against Embree's call of the same width") {
+    if (!trident::bench::kHaveEmbree) {
+        const BenchRun run = run_bench(kTiny + "--paired embree");
+        CHECK(run.exit_code != 0);
+        CHECK(run.err.find("--paired embree: this binary was built without Embree 3") != std::string::npos);
+        MESSAGE("built without Embree: --paired embree is refused");
+        return;
+    }
+    const auto [paired, out] =
+        paired_rows("--accel bvh --simd scalar,simd4 --threads 1 --embree 4 --paired embree", "paired_over_embree",
+                    [](const nlohmann::json& row) { return row.at("structure") != "embree"; });
+    CHECK(paired == 2);
+    CHECK(out.find("BVH x Embree") != std::string::npos);
 }
 
 TEST_CASE("the CSV has the column header and as many fields on every row") {

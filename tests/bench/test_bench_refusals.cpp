@@ -53,6 +53,7 @@ TEST_CASE("bad options give one line naming the option and a non-zero exit") {
         {"--threads 0", "--threads 0"},
         {"--embree 3", "--embree"},  // "--embree 3: expected ..." or, built without Embree, "--embree: ..."
         {"--embree-quality best", "--embree-quality"},
+        {"--paired nothing", "--paired nothing: expected scalar, bvh or embree"},
         {"--reference nothing", "--reference nothing"},
         {"--reference-hits /no/such/hits", "/no/such/hits"},
         {"--sweep nothing", "--sweep nothing: unknown sweep"},
