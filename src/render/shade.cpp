@@ -123,8 +123,11 @@ Image shade_shaded(const Scene& scene, const AnyAccel& accel, const Camera& came
         const Vec3f n = shading_normal(scene.mesh, hits[i], primary.dir, plan.normals);
         float light = 0.0f;
         if (plan.shadow_pass) {
-            const Vec3f p = surface_point(scene.mesh, hits[i]);
-            light = 0.12f + (lit[i] ? 0.88f * std::max(0.0f, dot(n, normalize(plan.light->position - p))) : 0.0f);
+            light = 0.12f;
+            if (lit[i]) {  // the hit point only where the light reaches it
+                const Vec3f p = surface_point(scene.mesh, hits[i]);
+                light += 0.88f * std::max(0.0f, dot(n, normalize(plan.light->position - p)));
+            }
         } else {
             light = 0.15f + 0.85f * std::abs(dot(n, primary.dir));
         }
