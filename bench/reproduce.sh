@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Re-measures every table and chart of bench/RESULTS.md on this machine, in order (about 65
+# Re-measures every table and chart of bench/RESULTS.md on this machine, in order (about 80
 # minutes on 2 cores). Run from the repository root after `bash run.sh test` (or any Release
 # build in build/), with ../shared beside the repository and nothing else running. The summary
 # tables of RESULTS.md are then printed from the JSON written here by bench/summarize.py.
@@ -18,6 +18,11 @@ $bench --scenes $scenes --simd scalar,simd4,simd8,simd16 --threads 1,2 --embree 
 # the KD-tree's and the Octree's speed relative to the BVH's (issues 4 and 6).
 $bench --scenes $scenes --accel bvh,kdtree,octree --simd scalar,simd8,simd16 --threads 1,2 --embree none \
     --reference self --json $out/structures.json --markdown $out/structures.md
+
+# The issues' ratios in pairs (issues 4 and 6): each primary render followed by the same structure's
+# scalar render, the BVH's at the same traversal and Embree's call of the same width, on the same rays.
+$bench --scenes $scenes --accel bvh,kdtree,octree --simd scalar,simd8,simd16 --threads 1,2 --embree none \
+    --reference self --paired scalar,bvh,embree --json $out/paired.json --markdown $out/paired.md --csv $out/paired.csv
 
 # Two threads over one from paired runs: each 2-thread render timed again on one thread right after.
 $bench --scenes $scenes --accel bvh,kdtree,octree --simd scalar --threads 2 --scaling --embree 1 \
