@@ -162,8 +162,9 @@ private:
 
         partner_hits_.assign(hits_.size(), Hit{});
         // --paired bvh: one BVH of the default options per scene for the other structures' rows.
+        // Partners time primary rays only, so a run without them builds none.
         std::optional<AnyAccel> bvh_partner;
-        if (options_.pairs_with(PairPartner::bvh) &&
+        if (asks(RayKind::primary) && options_.pairs_with(PairPartner::bvh) &&
             std::any_of(configs_.begin(), configs_.end(),
                         [](const StructureConfig& c) { return c.kind != AccelKind::bvh; })) {
             progress_.show(fmt::format("{}: building the BVH to pair with", loaded.scene.name));
@@ -178,7 +179,7 @@ private:
             // --paired embree: Embree's scene on a device of this row's thread count, as its own rows.
             std::optional<EmbreeDevice> embree_device;
             std::optional<EmbreeScene> embree_partner;
-            if (options_.pairs_with(PairPartner::embree)) {
+            if (asks(RayKind::primary) && options_.pairs_with(PairPartner::embree)) {
                 progress_.show(fmt::format("{}: building Embree's scene to pair with", loaded.scene.name));
                 embree_device.emplace(threads);
                 embree_partner.emplace(*embree_device, loaded.scene.mesh, options_.embree_quality);
