@@ -51,7 +51,7 @@ case "$command_name" in
         (cd build && ctest --output-on-failure -j "$jobs" "$@")
         # The sanitizer build runs the same tests with AddressSanitizer and UndefinedBehaviorSanitizer.
         build build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTRIDENT_SANITIZE=ON
-        (cd build-asan && TRIDENT_SANITIZED=1 ctest --output-on-failure -j "$jobs" "$@")
+        (cd build-asan && ctest --output-on-failure -j "$jobs" "$@")
         ;;
     *)
         echo "usage: bash run.sh bench|test [args]" >&2
