@@ -219,10 +219,10 @@ TEST_CASE("--paired times each primary row against the same structure's scalar r
     CHECK(over_scalar == 3);
     CHECK(out.find("Paired speed ratios") != std::string::npos);
     CHECK(out.find("KD x BVH") != std::string::npos);
-    const auto [over_bvh, _] =
+    [[maybe_unused]] const auto [over_bvh, bvh_out] =
         paired_rows(options, "paired_over_bvh", [](const nlohmann::json& row) { return row.at("structure") != "bvh"; });
     CHECK(over_bvh == 4);  // the KD-tree's and the octree's scalar and 4-lane rows
-    const auto [over_embree, __] =
+    [[maybe_unused]] const auto [over_embree, embree_out] =
         paired_rows(options, "paired_over_embree", [](const nlohmann::json&) { return false; });
     CHECK(over_embree == 0);
 }
