@@ -6,6 +6,7 @@
     summarize.py sweep RESULTS.json [RESULTS.json ...]
     summarize.py stress STRESS.json [STRESS.json ...]
     summarize.py ray-kinds RESULTS.json
+    summarize.py paired RESULTS.json
 
 Every figure printed is read from the JSON given; the study's own Table 2 is read from
 BENCHMARK.md, so the side-by-side table quotes it rather than copying it. Only the standard library
@@ -323,6 +324,33 @@ def ray_kinds(report):
     return "\n".join(out)
 
 
+PAIRED = (("bvh", "paired_over_scalar", "BVH x scalar"), ("bvh", "paired_over_embree", "BVH x Embree"),
+          ("kdtree", "paired_over_scalar", "KD x scalar"), ("kdtree", "paired_over_bvh", "KD x BVH"),
+          ("kdtree", "paired_over_embree", "KD x Embree"), ("octree", "paired_over_scalar", "Octree x scalar"),
+          ("octree", "paired_over_bvh", "Octree x BVH"), ("octree", "paired_over_embree", "Octree x Embree"))
+
+
+def paired(report):
+    """The --paired ratios, one row per scene and traversal, each cell 'first thread count / next ...'."""
+    rows = Rows(report)
+    columns = [c for c in PAIRED if any(r["structure"] == c[0] and r.get(c[1]) is not None for r in rows.rows)]
+    traversals = [w for w in WIDTHS if any(r["traversal"] == w for r in rows.rows)]
+
+    def two_decimals(x):
+        return "-" if x is None else "{:.2f}".format(x)
+
+    body = []
+    for scene in rows.scenes:
+        for w in traversals:
+            cells = []
+            for structure, key, _ in columns:
+                values = [rows.value(key, scene, structure, w, t, triangle_test="watertight", slabs="robust")
+                          for t in rows.threads]
+                cells.append("-" if all(v is None for v in values) else " / ".join(two_decimals(v) for v in values))
+            body.append([scene, w] + cells)
+    return table(["scene", "traversal"] + [c[2] for c in columns], body)
+
+
 def sweep(reports):
     out = []
     for report in reports:
@@ -384,7 +412,7 @@ def load(path):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("kind", choices=("study", "variants", "sweep", "stress", "ray-kinds"))
+    parser.add_argument("kind", choices=("study", "variants", "sweep", "stress", "ray-kinds", "paired"))
     parser.add_argument("json", nargs="+")
     parser.add_argument("--study-table", default="../shared/BENCHMARK.md",
                         help="BENCHMARK.md, for the study's own Table 2 (skipped when absent)")
@@ -398,6 +426,8 @@ def main():
         print(sweep(reports))
     elif args.kind == "ray-kinds":
         print(ray_kinds(reports[0]))
+    elif args.kind == "paired":
+        print(paired(reports[0]))
     else:
         print(stress(reports))
 
