@@ -21,6 +21,10 @@ struct AccelStats {
     double sah_cost = 0.0;            // cost of the finished tree under the builder's own cost model
     std::size_t bytes = 0;            // nodes + index lists + leaf triangle copies
     double build_ms = 0.0;            // from the mesh in memory to the flattened structure
+    // Wide trees only (0 elsewhere): children per interior node, and the share of the triangle
+    // blocks' lanes holding a triangle of their own rather than padding.
+    double mean_children = 0.0;
+    double block_fill = 0.0;
 
     double references_per_triangle() const { return triangles ? double(references) / double(triangles) : 0.0; }
     double bytes_per_triangle() const { return triangles ? double(bytes) / double(triangles) : 0.0; }

@@ -15,13 +15,16 @@
 #include "accel/brute/brute_force.h"
 #include "core/mesh.h"
 #include "accel/bvh/bvh.h"
+#include "accel/bvh/wide_bvh.h"
 #include "accel/kdtree/kdtree.h"
 #include "accel/octree/octree.h"
 #include "simd/packet.h"
 
 namespace trident {
 
-enum class AccelKind { brute, bvh, kdtree, octree };
+/// bvh: the wide BVH (BvhOptions::width children a node; width 2 is the binary tree); bvh2: the
+/// binary BVH whatever the width, the reference study's structure, kept beside the wide one.
+enum class AccelKind { brute, bvh, bvh2, kdtree, octree };
 
 /// Whether a structure traces packets of the architecture's width (closest-hit and any-hit), so
 /// callers that dispatch on a run-time width instantiate packet code only where it exists.
@@ -52,7 +55,7 @@ public:
     AccelKind kind() const { return kind_; }
 
 private:
-    using Structure = std::variant<BruteForce, Bvh, KdTree, Octree>;
+    using Structure = std::variant<BruteForce, Bvh, WideBvh<4, 4>, WideBvh<8, 4>, KdTree, Octree>;
     AnyAccel(AccelKind kind, Structure structure) : kind_(kind), structure_(std::move(structure)) {}
     AccelKind kind_;
     Structure structure_;
@@ -62,6 +65,7 @@ inline const char* to_string(AccelKind kind) {
     switch (kind) {
         case AccelKind::brute: return "brute";
         case AccelKind::bvh: return "bvh";
+        case AccelKind::bvh2: return "bvh2";
         case AccelKind::kdtree: return "kdtree";
         case AccelKind::octree: return "octree";
     }
@@ -69,20 +73,27 @@ inline const char* to_string(AccelKind kind) {
 }
 
 inline std::optional<AccelKind> parse_accel_kind(std::string_view name) {
-    for (AccelKind kind : {AccelKind::brute, AccelKind::bvh, AccelKind::kdtree, AccelKind::octree})
+    for (AccelKind kind : {AccelKind::brute, AccelKind::bvh, AccelKind::bvh2, AccelKind::kdtree, AccelKind::octree})
         if (name == to_string(kind)) return kind;
     return std::nullopt;
 }
 
 
 inline std::vector<AccelKind> built_accel_kinds() {
-    return {AccelKind::brute, AccelKind::bvh, AccelKind::kdtree, AccelKind::octree};
+    return {AccelKind::brute, AccelKind::bvh, AccelKind::bvh2, AccelKind::kdtree, AccelKind::octree};
 }
 
 inline AnyAccel AnyAccel::build(AccelKind kind, const Mesh& mesh, const AccelOptions& options) {
     switch (kind) {
         case AccelKind::brute: return AnyAccel(kind, BruteForce::build(mesh));
-        case AccelKind::bvh: return AnyAccel(kind, Bvh::build(mesh, options.bvh));
+        case AccelKind::bvh:
+            options.bvh.validate();
+            switch (options.bvh.width) {
+                case 4: return AnyAccel(kind, WideBvh<4, 4>::build(mesh, options.bvh));
+                case 8: return AnyAccel(kind, WideBvh<8, 4>::build(mesh, options.bvh));
+                default: return AnyAccel(kind, Bvh::build(mesh, options.bvh));  // width 2
+            }
+        case AccelKind::bvh2: return AnyAccel(kind, Bvh::build(mesh, options.bvh));
         case AccelKind::kdtree: return AnyAccel(kind, KdTree::build(mesh, options.kdtree));
         case AccelKind::octree: return AnyAccel(kind, Octree::build(mesh, options.octree));
     }

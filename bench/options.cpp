@@ -23,6 +23,7 @@ struct Arguments {
     std::optional<std::string> sweep;
     std::string reference = "auto";
     long long width = 1920, height = 1080, repeats = kRecommendedRepeats;
+    int bvh_width = BvhOptions{}.width;
     bool quiet = false, scaling = false, vs_single = false;
 };
 
@@ -59,7 +60,7 @@ std::vector<AccelKind> resolve_structures(const std::vector<std::string>& names)
     }
     for (const std::string& name : names) {
         const auto kind = parse_accel_kind(name);
-        if (!kind) refuse(fmt::format("--accel {}: unknown structure (brute, bvh, kdtree, octree)", name));
+        if (!kind) refuse(fmt::format("--accel {}: unknown structure (brute, bvh, bvh2, kdtree, octree)", name));
         push_unique(kinds, *kind);
     }
     return kinds;
@@ -240,6 +241,7 @@ BenchOptions resolve(const Arguments& args, const CLI::App& app) {
     options.scaling = args.scaling;
     options.vs_single = args.vs_single;
     options.paired = resolve_paired(args.paired);
+    options.bvh_width = args.bvh_width;
     return options;
 }
 
@@ -250,8 +252,11 @@ void add_options(CLI::App& app, Arguments& args) {
     app.add_option("--scene", args.scenes,
                    "a built-in scene name or an .obj file (camera framed automatically); repeatable");
     app.add_option("--accel", args.accel,
-                   "structures, comma separated: bvh,kdtree,octree,brute (default: all built but brute)")
+                   "structures, comma separated: bvh,bvh2,kdtree,octree,brute (default: all built but brute; bvh "
+                   "is the wide BVH, bvh2 the binary one)")
         ->delimiter(',');
+    app.add_option("--bvh-width", args.bvh_width, "children per node of the bvh rows' tree: 4 or 8 (default 8)")
+        ->check(CLI::IsMember({4, 8}));
     app.add_option("--simd", args.simd,
                    "traversals, comma separated: scalar,simd4,simd8,simd16 or auto (default scalar)")
         ->delimiter(',');

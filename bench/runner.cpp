@@ -68,12 +68,17 @@ std::vector<StructureConfig> structure_configs(const BenchOptions& options) {
     if (options.sweep) {
         for (double value : options.sweep->values) {
             StructureConfig config{options.sweep->structure, {}, value};
+            config.options.bvh.width = options.bvh_width;
             options.sweep->set(config.options, value);
             configs.push_back(config);
         }
         return configs;
     }
-    for (AccelKind kind : options.structures) configs.push_back({kind, {}, std::nullopt});
+    for (AccelKind kind : options.structures) {
+        StructureConfig config{kind, {}, std::nullopt};
+        config.options.bvh.width = options.bvh_width;
+        configs.push_back(config);
+    }
     return configs;
 }
 
@@ -130,6 +135,10 @@ private:
         report_.height = options_.height;
         report_.repeats = options_.repeats;
         report_.threads = options_.threads;
+        if (std::find(options_.structures.begin(), options_.structures.end(), AccelKind::bvh) != options_.structures.end())
+            report_.notes.push_back(fmt::format("bvh rows: the wide BVH, {} children a node, blocks of 4 triangles; "
+                                                "bvh2 rows: the binary BVH",
+                                                options_.bvh_width));
         for (TriangleTest test : options_.triangle_tests)
             report_.triangle_test += fmt::format("{}{}", report_.triangle_test.empty() ? "" : ", ", to_string(test));
         for (SlabTest slabs : options_.slab_tests)

@@ -48,7 +48,8 @@ std::string range(const Summary& summary) { return fmt::format("{}..{}", figure(
 
 /// A structure's label in the study's table header.
 std::string display_name(const std::string& structure) {
-    if (structure == "bvh") return "BVH";
+    if (structure == "bvh") return "BVH";  // the wide one
+    if (structure == "bvh2") return "BVH2";
     if (structure == "kdtree") return "KD";
     if (structure == "octree") return "Octree";
     if (structure == kEmbreeStructure) return "Embree";

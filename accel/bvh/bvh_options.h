@@ -34,6 +34,10 @@ struct BvhOptions {
     float intersection_cost = 1.0f;
     /// A node this large is split even when SAH prefers a leaf (median split if SAH finds none).
     int max_leaf_size = 8;
+    /// Children per node of AccelKind::bvh's tree: 2 (the binary tree), 4 or 8 (the wide BVH,
+    /// wide_bvh.h, built by collapsing the binary one). 8 is the fastest on every AVX2 and
+    /// AVX-512 machine measured (bench/experiments/bvh_traversal.md).
+    int width = 8;
 
     /// The reference study's setting: traversal cost 1/4, intersection cost 1, one split axis.
     static BvhOptions study();

@@ -30,6 +30,7 @@ struct StressCommandOptions {
     std::vector<std::string> widths{"all"};
     std::string triangle_test = "watertight";
     std::string slabs = "robust";
+    int bvh_width = BvhOptions{}.width;
     std::size_t brute_rays = 20'000;
     int threads = 0;
     std::optional<std::filesystem::path> json;
@@ -45,9 +46,10 @@ StressRunOptions run_options(const StressCommandOptions& o) {
     run.accels.clear();
     for (const std::string& name : o.accels) {
         const auto kind = parse_accel_kind(name);
-        if (!kind) throw std::invalid_argument(fmt::format("--accel {}: unknown structure (brute, bvh, kdtree, octree)", name));
+        if (!kind) throw std::invalid_argument(fmt::format("--accel {}: unknown structure (brute, bvh, bvh2, kdtree, octree)", name));
         run.accels.push_back(*kind);
     }
+    run.accel_options.bvh.width = o.bvh_width;
     for (const std::string& name : o.widths) {
         if (name == "all") {
             const auto all = runnable_widths();
@@ -111,7 +113,10 @@ StressCommand::StressCommand(CLI::App& app) : options_(std::make_unique<StressCo
     command_->add_option("--rays", o.rays, "rays per case (default 400000)");
     command_->add_option("--seed", o.seed, "seed of every case's mesh and rays (default 1)");
     command_->add_option("--only", o.only, "run only these cases (comma-separated; --list names them)")->delimiter(',');
-    command_->add_option("--accel", o.accels, "structures, comma-separated (default brute,bvh,kdtree,octree)")->delimiter(',');
+    command_->add_option("--accel", o.accels, "structures, comma-separated (default brute,bvh,bvh2,kdtree,octree)")
+        ->delimiter(',');
+    command_->add_option("--bvh-width", o.bvh_width, "children per node of the bvh rows' tree: 2, 4 or 8 (default 8)")
+        ->check(CLI::IsMember({2, 4, 8}));
     command_->add_option("--simd", o.widths, "widths, comma-separated: all (default) or scalar,4,8,16")->delimiter(',');
     command_->add_option("--triangle-test", o.triangle_test, "watertight (default) or moller_trumbore");
     command_->add_option("--slabs", o.slabs, "box tests: robust (default) or fast, to measure what the fast one loses");
@@ -169,6 +174,7 @@ int StressCommand::run() const {
         if (!out) throw std::runtime_error(fmt::format("{}: cannot write", o.json->string()));
         out << nlohmann::json{{"seed", o.seed}, {"rays_per_case", o.rays}, {"triangle_test", o.triangle_test},
                               {"slabs", o.slabs},
+                              {"bvh_width", o.bvh_width},
                               {"rows", rows}, {"leaks", leaks}, {"disagreements", disagreements},
                               {"seconds", seconds}}
                    .dump(1)

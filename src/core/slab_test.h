@@ -85,12 +85,15 @@ SlabInterval<T> slab_interval(T lo, T hi, T origin, T inv_dir) {
 /// their second operand when either is NaN (core/lanes.h), so such a slab leaves entry or exit
 /// as they were: the ray lies inside that closed slab. Where nothing is NaN the result is the
 /// robust interval of slab_interval, so both forms accept the same boxes; this one saves the
-/// compare-and-select pair per plane in the single-ray BVH's box test.
-template <class T>
+/// compare-and-select pair per plane in the single-ray BVH's box test. SlabTest::fast leaves out
+/// the widening (the wide BVH's fast variant: with ordered planes an empty box [+inf, -inf] is
+/// still entered by no ray, which the unordered fast formula cannot promise).
+template <SlabTest Slabs = SlabTest::robust, class T>
 void clip_to_ordered_slab(T near_plane, T far_plane, T origin, T inv_dir, T& entry, T& exit) {
     using L = Lanes<T>;
     entry = L::max((near_plane - origin) * inv_dir, entry);
-    exit = L::min((far_plane - origin) * inv_dir * T(kFarScale), exit);
+    const T far = (far_plane - origin) * inv_dir;
+    exit = L::min(Slabs == SlabTest::robust ? far * T(kFarScale) : far, exit);
 }
 
 /// Narrows [entry, exit] to the ray's interval inside one slab [lo, hi].

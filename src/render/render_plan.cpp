@@ -59,6 +59,7 @@ StreamTraversal incoherent_traversal(AccelKind accel, SimdWidth requested, std::
     const auto octant_packets = [](SimdWidth width) { return StreamTraversal{width, PacketGrouping::by_octant}; };
     switch (accel) {
         case AccelKind::bvh:
+        case AccelKind::bvh2:
             if (is_runnable(SimdWidth::w16)) return octant_packets(SimdWidth::w16);
             return octant_packets(is_runnable(SimdWidth::w8) ? SimdWidth::w8 : requested);
         case AccelKind::kdtree:

@@ -124,7 +124,7 @@ void run_stress_case(const StressCase& stress_case, const StressRunOptions& opti
     const CaseReference reference(stress_case, options.reference_tests);
     const std::vector<SimdWidth> widths = options.widths.empty() ? runnable_widths() : options.widths;
     for (AccelKind kind : options.accels) {
-        const AnyAccel accel = AnyAccel::build(kind, stress_case.mesh);
+        const AnyAccel accel = AnyAccel::build(kind, stress_case.mesh, options.accel_options);
         const std::size_t ray_count =
             kind == AccelKind::brute ? std::min(options.brute_rays, stress_case.rays.size()) : stress_case.rays.size();
         const std::span<const Ray> rays(stress_case.rays.data(), ray_count);

@@ -23,6 +23,7 @@ const char* to_string(StressQuery query);
 
 struct StressRunOptions {
     std::vector<AccelKind> accels = built_accel_kinds();
+    AccelOptions accel_options;     // the wide BVH's width among them (--bvh-width)
     std::vector<SimdWidth> widths;  // empty: every width this CPU runs
     TriangleTest test = TriangleTest::watertight;
     SlabTest slabs = SlabTest::robust;

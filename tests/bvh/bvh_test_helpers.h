@@ -107,7 +107,7 @@ inline void check_invariants(const Bvh& bvh, const Mesh& mesh) {
     CHECK(max_depth <= kBvhMaxDepth);
 
     const AccelStats& stats = bvh.stats();
-    CHECK(stats.structure == "bvh");
+    CHECK(stats.structure == "bvh2");
     CHECK(stats.triangles == n);
     CHECK(stats.nodes == nodes.size());
     CHECK(stats.leaves == leaves);

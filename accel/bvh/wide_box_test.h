@@ -1,0 +1,73 @@
+#pragma once
+// One ray against all Width child boxes of a wide node in one vector step (Embree's
+// node_intersector1.h): the slab test of core/slab_test.h over a batch with one box per lane and
+// the ray in every lane. The near and far planes of each axis are picked once per ray from the
+// direction's sign (the rows of WideNode), so a node costs three loads of each, six differences,
+// six products and the reductions.
+//
+// Robust: Ize's widening of the far distances, and the zero offsets left to min and max, which
+// return their second operand for NaN (core/slab_test.h, clip_to_ordered_slab). Fast: the same
+// without the widening. Either way an unused slot's empty box [+inf, -inf] has its near plane at
+// +inf along the ray, so no ray enters it.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <xsimd/xsimd.hpp>
+
+#include "accel/bvh/wide_node.h"
+#include "core/ray.h"
+#include "core/slab_test.h"
+#include "simd/lanes.h"
+#include "simd/mask.h"
+
+namespace trident::bvh {
+
+/// Ray extents are prune-tested against the closest hit widened by this factor, so that a box
+/// whose entry rounds a few ulps past a hit at the same distance is still visited: whichever order
+/// the children are visited in (by one ray or by a packet), every triangle hit at the closest t is
+/// tested and the lowest id among them is kept (wide_bvh.h), so the answer does not depend on the
+/// order.
+inline constexpr float kPruneSlack = 1.0f + 0x1p-20f;
+
+/// The largest t a box may be entered at to still hold a hit for a ray whose closest so far is t.
+template <class T>
+T prune_limit(const T& t_closest) {
+    return t_closest * T(kPruneSlack);
+}
+
+template <std::size_t Width, SlabTest Slabs>
+class WideBoxTest {
+public:
+    using Float = xsimd::make_sized_batch_t<float, Width>;
+    static_assert(Float::size == Width, "no vector of this width on the target");
+
+    explicit WideBoxTest(const Ray& ray) {
+        for (int axis = 0; axis < 3; ++axis) {
+            const float inv_dir = 1.0f / ray.dir[axis];  // +-inf for +-0
+            origin_[axis] = Float(ray.origin[axis]);
+            inv_dir_[axis] = Float(inv_dir);
+            const bool negative = inv_dir < 0.0f;
+            near_row_[axis] = negative ? upper_row(axis) : lower_row(axis);
+            far_row_[axis] = negative ? lower_row(axis) : upper_row(axis);
+        }
+    }
+
+    /// Bit k set when child k's box meets [t_min, t_max]; its entry distance in t_entry[k].
+    std::uint32_t enter(const WideNode<Width>& node, float t_min, float t_max,
+                        std::array<float, Width>& t_entry) const {
+        Float entry(t_min), exit(t_max);
+        for (int axis = 0; axis < 3; ++axis) {
+            detail::clip_to_ordered_slab<Slabs>(Float::load_aligned(node.bounds[near_row_[axis]]),
+                                                Float::load_aligned(node.bounds[far_row_[axis]]), origin_[axis],
+                                                inv_dir_[axis], entry, exit);
+        }
+        entry.store_unaligned(t_entry.data());
+        return simd::mask_bits(entry <= exit);
+    }
+
+private:
+    Float origin_[3], inv_dir_[3];
+    int near_row_[3], far_row_[3];
+};
+
+}  // namespace trident::bvh

@@ -1,0 +1,43 @@
+#include "accel/bvh/wide_bvh.h"
+
+#include <chrono>
+
+#include "accel/bvh/bvh.h"
+#include "accel/bvh/wide_collapse.h"
+
+namespace trident {
+
+template <std::size_t Width, std::size_t BlockSize>
+WideBvh<Width, BlockSize> WideBvh<Width, BlockSize>::build(const Mesh& mesh, const BvhOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    const Bvh binary = Bvh::build(mesh, options);
+    bvh::WideArrays<Width, BlockSize> wide =
+        bvh::collapse_to_wide<Width, BlockSize>(binary.nodes(), binary.leaf_triangles(), binary.leaf_triangle_ids());
+    const double build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+
+    WideBvh result;
+    result.options_ = options;
+    result.nodes_ = std::move(wide.nodes);
+    result.blocks_ = std::move(wide.blocks);
+    AccelStats& stats = result.stats_;
+    stats.structure = "bvh" + std::to_string(Width);
+    stats.triangles = mesh.triangle_count();
+    stats.nodes = result.nodes_.size() + wide.leaves;
+    stats.leaves = wide.leaves;
+    stats.max_depth = wide.max_depth;
+    stats.references = binary.leaf_triangles().size();
+    stats.max_leaf_size = wide.max_leaf_triangles;
+    stats.mean_leaf_size = wide.leaves ? double(stats.references) / double(wide.leaves) : 0.0;
+    stats.sah_cost = wide.sah_cost;
+    stats.bytes = result.nodes_.size() * sizeof(Node) + result.blocks_.size() * sizeof(Block);
+    stats.mean_children = result.nodes_.empty() ? 0.0 : double(wide.child_slots_used) / double(result.nodes_.size());
+    stats.block_fill =
+        result.blocks_.empty() ? 0.0 : double(stats.references) / double(result.blocks_.size() * BlockSize);
+    stats.build_ms = build_ms;
+    return result;
+}
+
+template class WideBvh<4, 4>;
+template class WideBvh<8, 4>;
+
+}  // namespace trident

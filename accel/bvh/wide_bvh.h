@@ -1,0 +1,210 @@
+#pragma once
+// The wide BVH: the binary SAH tree (bvh.h) collapsed into nodes of Width children whose boxes are
+// stored by coordinate, over leaves of triangle blocks stored by coordinate (wide_node.h,
+// wide_collapse.h). One ray tests all of a node's boxes in one vector step (wide_box_test.h) and
+// a block's triangles in another; Embree's BVH8 over triangle4 blocks is the same design.
+//
+// Closest hit: the children a ray enters are visited near to far (sorted by entry distance; the
+// far ones stacked with it, so a popped one beyond the closest hit is skipped). Any hit: no sort,
+// and the walk ends at the first hit. The closest hit is the lowest (t, triangle id) of the
+// triangles the ray hits, ties at equal t going to the lower id, and boxes are pruned only beyond
+// the closest t widened by kPruneSlack: the answer then does not depend on the order nodes are
+// visited in, so a ray packet (wide_packet.h) gives each lane the single ray's hit bit for bit.
+//
+// The triangle test is the scalar one (core/intersect_triangle.h) run over a batch with one
+// triangle per lane: lane for lane the same operations, so the same hits, t, u and v bits.
+#include <bit>
+#include <cassert>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <xsimd/xsimd.hpp>
+
+#include "accel/accel_stats.h"
+#include "accel/bvh/bvh_node.h"
+#include "accel/bvh/bvh_options.h"
+#include "accel/bvh/wide_box_test.h"
+#include "accel/bvh/wide_node.h"
+#include "core/flatten.h"
+#include "core/huge_page_array.h"
+#include "core/intersect_triangle.h"
+#include "core/mesh.h"
+#include "simd/lanes.h"
+#include "simd/packet.h"
+
+namespace trident {
+
+template <std::size_t Width, std::size_t BlockSize>
+class WideBvh {
+public:
+    static constexpr std::size_t width = Width, block_size = BlockSize;
+    using Node = bvh::WideNode<Width>;
+    using Block = bvh::TriangleBlock<BlockSize>;
+    /// A stack entry per sibling left behind: at most Width - 1 per level.
+    static constexpr std::size_t kStackSize = kBvhMaxDepth * (Width - 1) + 1;
+
+    /// The binary build (Bvh::build's, same options) and the collapse, both with oneTBB on the
+    /// caller's threads; the result does not depend on their number. Throws as Bvh::build does.
+    static WideBvh build(const Mesh& mesh, const BvhOptions& options = {});
+
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Counters>
+    Hit intersect(const Ray& ray, Counters& counters) const {
+        const Hit hit = traverse<false, Test, Slabs>(ray, bvh::ChildRef::node(0), Hit{kNoTriangle, ray.tmax}, counters);
+        return hit.is_hit() ? hit : Hit{};
+    }
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Counters>
+    bool occluded(const Ray& ray, Counters& counters) const {
+        return traverse<true, Test, Slabs>(ray, bvh::ChildRef::node(0), Hit{kNoTriangle, ray.tmax}, counters).is_hit();
+    }
+    Hit intersect(const Ray& ray) const {
+        NoCounters c;
+        return intersect<TriangleTest::watertight>(ray, c);
+    }
+    bool occluded(const Ray& ray) const {
+        NoCounters c;
+        return occluded<TriangleTest::watertight>(ray, c);
+    }
+
+    /// Ray packets (wide_packet.h): per live lane the single ray's hit bit for bit, or whether
+    /// anything is hit. Subtrees that at most SingleRayLanes lanes need are traced ray by ray.
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters, int SingleRayLanes = 1>
+    void intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters) const;
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters, int SingleRayLanes = 1>
+    typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters) const;
+
+    const AccelStats& stats() const { return stats_; }
+    const BvhOptions& options() const { return options_; }
+    std::span<const Node> nodes() const { return nodes_; }
+    std::span<const Block> blocks() const { return blocks_; }
+
+    /// The single-ray walk from `start` (the root: node 0) given the closest hit so far (`best`:
+    /// kNoTriangle at the ray's tmax when none), which it returns improved. Counters: a
+    /// visit_node per wide node whose boxes are tested, a test_triangle per real triangle of each
+    /// block tested (not the padding lanes).
+    template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Counters>
+    TRIDENT_FLATTEN Hit traverse(const Ray& ray, bvh::ChildRef start, Hit best, Counters& counters) const;
+
+private:
+    template <bool AnyHit, TriangleTest Test, SlabTest Slabs, int SingleRayLanes, class Arch, class Counters>
+    typename RayPacket<Arch>::Mask traverse_packet(const RayPacket<Arch>& rays, HitPacket<Arch>& hits,
+                                                   Counters& counters) const;
+
+    /// The lanes set in `lanes`, one by one with traverse() from `from`, each continuing from its
+    /// record in `hits`; returns the any-hit lanes that hit (none for closest hit).
+    template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
+    typename RayPacket<Arch>::Mask trace_singly(const RayPacket<Arch>& rays, std::uint32_t lanes, bvh::ChildRef from,
+                                                HitPacket<Arch>& hits, Counters& counters) const;
+
+    HugePageArray<Node> nodes_;
+    HugePageArray<Block> blocks_;
+    BvhOptions options_;
+    AccelStats stats_;
+};
+
+namespace bvh {
+
+/// Whether a triangle hit at t with `id` beats the closest hit so far: nearer, or as near with a
+/// lower id (what makes the closest hit independent of the visiting order).
+inline bool beats(float t, TriangleId id, const Hit& best) { return t < best.t || (t == best.t && id < best.triangle); }
+
+/// The limit to hand the triangle test (which accepts t < limit): the ray's tmax while nothing is
+/// hit, else just past the closest t, so that a triangle at the same t can win on its id.
+inline float triangle_limit(const Hit& best) { return best.is_hit() ? std::nextafter(best.t, kInfinity) : best.t; }
+
+}  // namespace bvh
+
+template <std::size_t Width, std::size_t BlockSize>
+template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Counters>
+Hit WideBvh<Width, BlockSize>::traverse(const Ray& ray, bvh::ChildRef start, Hit best, Counters& counters) const {
+    using BlockFloat = xsimd::make_sized_batch_t<float, BlockSize>;
+    using BlockLanes = Lanes<BlockFloat>;
+    if (nodes_.empty()) return best;
+    const bvh::WideBoxTest<Width, Slabs> box_test(ray);
+    const TriangleIntersectorT<Test, BlockFloat> block_test(Vec3T<BlockFloat>(ray.origin), Vec3T<BlockFloat>(ray.dir),
+                                                            BlockFloat(ray.tmin));
+    struct StackEntry {
+        bvh::ChildRef ref;
+        float t_entry;
+    };
+    StackEntry stack[kStackSize];
+    std::size_t stack_size = 0;
+    bvh::ChildRef current = start;
+    std::array<float, Width> t_entry;
+    for (;;) {
+        if (!current.is_leaf()) {
+            const Node& node = nodes_[current.node_index()];
+            counters.visit_node();
+            std::uint32_t entered = box_test.enter(node, ray.tmin, bvh::prune_limit(best.t), t_entry);
+            if (entered != 0) {
+                int first = std::countr_zero(entered);
+                entered &= entered - 1;
+                if (entered == 0) {
+                    current = node.child[first];
+                    continue;
+                }
+                if constexpr (AnyHit) {  // no order: any hit ends the walk
+                    for (; entered != 0; entered &= entered - 1) {
+                        const int k = std::countr_zero(entered);
+                        stack[stack_size++] = {node.child[k], t_entry[k]};
+                    }
+                } else {
+                    // Insertion sort of the entered children, farthest first, onto the stack;
+                    // the nearest becomes the next node.
+                    const std::size_t base = stack_size;
+                    StackEntry nearest{node.child[first], t_entry[first]};
+                    for (; entered != 0; entered &= entered - 1) {
+                        const int k = std::countr_zero(entered);
+                        StackEntry e{node.child[k], t_entry[k]};
+                        if (e.t_entry < nearest.t_entry) std::swap(e, nearest);
+                        std::size_t i = stack_size++;
+                        for (; i > base && stack[i - 1].t_entry < e.t_entry; --i) stack[i] = stack[i - 1];
+                        stack[i] = e;
+                    }
+                    current = nearest.ref;
+                    assert(stack_size <= kStackSize);
+                    continue;
+                }
+                assert(stack_size <= kStackSize);
+                current = node.child[first];
+                continue;
+            }
+        } else {
+            const std::uint32_t end = current.first_block() + current.template block_count<BlockSize>();
+            std::uint32_t remaining = current.triangle_count();
+            TriangleHitT<BlockFloat> h{BlockFloat(0.0f), BlockFloat(0.0f), BlockFloat(0.0f)};  // read where hit only
+            for (std::uint32_t b = current.first_block(); b != end; ++b) {
+                const Block& block = blocks_[b];
+                for (std::uint32_t k = 0; k < std::min<std::uint32_t>(remaining, BlockSize); ++k)
+                    counters.test_triangle();
+                remaining -= std::min<std::uint32_t>(remaining, BlockSize);
+                const auto load = [](const float(&corner)[3][BlockSize]) {
+                    return Vec3T<BlockFloat>(BlockFloat::load_aligned(corner[0]), BlockFloat::load_aligned(corner[1]),
+                                             BlockFloat::load_aligned(corner[2]));
+                };
+                const auto hit = block_test.intersect(load(block.a), load(block.b), load(block.c),
+                                                      BlockFloat(bvh::triangle_limit(best)), h);
+                std::uint32_t lanes = BlockLanes::bits(hit);
+                if (lanes == 0) continue;
+                const auto t = BlockLanes::to_array(h.t), u = BlockLanes::to_array(h.u), v = BlockLanes::to_array(h.v);
+                for (; lanes != 0; lanes &= lanes - 1) {
+                    const int k = std::countr_zero(lanes);
+                    if (bvh::beats(t[k], block.id[k], best)) best = {block.id[k], t[k], u[k], v[k]};
+                }
+                if constexpr (AnyHit) return best;
+            }
+        }
+        for (;;) {  // pop the next node that can still hold a closer hit
+            if (stack_size == 0) return best;
+            const StackEntry& entry = stack[--stack_size];
+            if (entry.t_entry <= bvh::prune_limit(best.t)) {
+                current = entry.ref;
+                break;
+            }
+        }
+    }
+}
+
+}  // namespace trident
+
+#include "accel/bvh/wide_packet.h"

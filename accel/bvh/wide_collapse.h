@@ -1,0 +1,41 @@
+#pragma once
+// Collapsing the binary SAH tree (bvh.h) into a wide one (wide_node.h): which binary subtrees
+// become leaves of triangle blocks and which binary nodes are opened into a wide node's children.
+//
+// Leaves are decided by cost, bottom-up over the binary tree (Ylitie, Karras and Laine 2017,
+// "Efficient incoherent ray traversal on GPUs through compressed wide BVHs", section 3, in a
+// simpler form): a subtree becomes one leaf when testing its blocks costs no more than descending
+// into it, where a block test costs the same as a wide node step and the binary levels a wide
+// node absorbs share that step's cost. Interior wide nodes are then filled top-down by opening,
+// among their children that are not leaves, the one of largest surface area, until Width are held
+// (Embree's and the 2026-11-25 prototype's rule; the SAH gains most where the rays are most likely).
+#include <cstddef>
+#include <span>
+
+#include "accel/bvh/bvh_node.h"
+#include "accel/bvh/wide_node.h"
+#include "core/huge_page_array.h"
+#include "core/mesh.h"
+
+namespace trident::bvh {
+
+/// What a wide tree is made of, with the figures its statistics need.
+template <std::size_t Width, std::size_t BlockSize>
+struct WideArrays {
+    HugePageArray<WideNode<Width>> nodes;  // the root is node 0
+    HugePageArray<TriangleBlock<BlockSize>> blocks;
+    std::size_t leaves = 0;
+    std::size_t max_depth = 0;  // of wide nodes and leaves, the root node at 0
+    std::size_t max_leaf_triangles = 0;
+    std::size_t child_slots_used = 0;  // over all nodes, for the mean children per node
+    double sah_cost = 0.0;             // the wide tree's SAH with the collapse's own costs
+};
+
+/// The wide tree over the binary tree `nodes` (depth-first, root first) whose leaves cover
+/// `triangles` and `ids` in leaf order. Blocks are filled in parallel; the result does not depend
+/// on the number of threads. An empty tree gives no nodes.
+template <std::size_t Width, std::size_t BlockSize>
+WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, std::span<const Triangle> triangles,
+                                              std::span<const TriangleId> ids);
+
+}  // namespace trident::bvh

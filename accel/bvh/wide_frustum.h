@@ -1,0 +1,102 @@
+#pragma once
+// One test of all Width child boxes of a wide node against a whole group of rays that share an
+// octant (Reshetov, Soupikov and Hurley 2005, "Multi-level ray tracing algorithm"; Embree's
+// frustum.h and node_intersector_frustum.h): per axis, the interval of the rays' origins and of
+// their reciprocal directions, so that each slab distance of every ray lies within an interval
+// computed once for the group. A child none of the rays can enter is dropped before any lane is
+// tested against it.
+//
+// The bounds are conservative against the lanes' own rounded arithmetic, not only against exact
+// arithmetic: a lane's near distance is fl(fl(plane - origin) * inv_dir), and rounding preserves
+// order, so the smallest of the four corner products fl(fl(plane - origin bound) * inv_dir bound)
+// is at most every lane's value; likewise the largest for far distances, widened as the robust
+// test widens them. Dropping a child is then a decision every lane's own test would have made.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <xsimd/xsimd.hpp>
+
+#include "accel/bvh/wide_node.h"
+#include "core/slab_test.h"
+#include "simd/lanes.h"
+#include "simd/mask.h"
+#include "simd/packet.h"
+
+namespace trident::bvh {
+
+/// Per axis the rays' extremes: origins in [origin_lo, origin_hi], reciprocal directions in
+/// [inv_lo, inv_hi], all of one sign and finite.
+struct RayGroupBounds {
+    float origin_lo[3], origin_hi[3], inv_lo[3], inv_hi[3];
+    bool negative[3];
+    float tmin_lo;
+
+    /// The bounds of a packet's live lanes, or nothing when they do not share an octant or some
+    /// direction component is zero (its reciprocal infinite), where the intervals say nothing.
+    template <class Arch>
+    static std::optional<RayGroupBounds> of(const RayPacket<Arch>& rays, const typename RayPacket<Arch>::Mask& live) {
+        using Float = typename RayPacket<Arch>::Float;
+        if (!rays.shares_octant()) return std::nullopt;
+        RayGroupBounds out;
+        const Float inf(kInfinity);
+        for (int axis = 0; axis < 3; ++axis) {
+            const Float inv = rays.slab.inv_dir[axis], origin = rays.slab.origin[axis];
+            const float abs_inv_max = -simd::horizontal_min(xsimd::select(live, -xsimd::abs(inv), inf));
+            if (!(abs_inv_max < kInfinity)) return std::nullopt;
+            out.origin_lo[axis] = simd::horizontal_min(xsimd::select(live, origin, inf));
+            out.origin_hi[axis] = -simd::horizontal_min(xsimd::select(live, -origin, inf));
+            out.inv_lo[axis] = simd::horizontal_min(xsimd::select(live, inv, inf));
+            out.inv_hi[axis] = -simd::horizontal_min(xsimd::select(live, -inv, inf));
+            out.negative[axis] = (rays.octant >> axis & 1) != 0;
+        }
+        out.tmin_lo = simd::horizontal_min(xsimd::select(live, rays.tmin, inf));
+        return out;
+    }
+};
+
+template <std::size_t Width, SlabTest Slabs>
+class WideFrustumTest {
+public:
+    using Float = xsimd::make_sized_batch_t<float, Width>;
+
+    explicit WideFrustumTest(const RayGroupBounds& group) : tmin_lo_(group.tmin_lo) {
+        for (int axis = 0; axis < 3; ++axis) {
+            origin_lo_[axis] = Float(group.origin_lo[axis]);
+            origin_hi_[axis] = Float(group.origin_hi[axis]);
+            inv_lo_[axis] = Float(group.inv_lo[axis]);
+            inv_hi_[axis] = Float(group.inv_hi[axis]);
+            near_row_[axis] = group.negative[axis] ? upper_row(axis) : lower_row(axis);
+            far_row_[axis] = group.negative[axis] ? lower_row(axis) : upper_row(axis);
+        }
+    }
+
+    /// Bit k set when some ray of the group, limited to t <= t_max_hi, may enter child k's box;
+    /// clear only where none can. entry_lo[k]: at most any ray's entry distance into child k.
+    std::uint32_t may_enter(const WideNode<Width>& node, float t_max_hi, std::array<float, Width>& entry_lo) const {
+        using L = Lanes<Float>;
+        Float entry(tmin_lo_), exit(t_max_hi);
+        for (int axis = 0; axis < 3; ++axis) {
+            const Float near = Float::load_aligned(node.bounds[near_row_[axis]]);
+            const Float far = Float::load_aligned(node.bounds[far_row_[axis]]);
+            const Float near_lo = near - origin_hi_[axis], near_hi = near - origin_lo_[axis];
+            const Float far_lo = far - origin_hi_[axis], far_hi = far - origin_lo_[axis];
+            const Float smallest_near = L::min(L::min(near_lo * inv_lo_[axis], near_lo * inv_hi_[axis]),
+                                               L::min(near_hi * inv_lo_[axis], near_hi * inv_hi_[axis]));
+            Float largest_far = L::max(L::max(far_lo * inv_lo_[axis], far_lo * inv_hi_[axis]),
+                                       L::max(far_hi * inv_lo_[axis], far_hi * inv_hi_[axis]));
+            if constexpr (Slabs == SlabTest::robust) largest_far = largest_far * Float(detail::kFarScale);
+            entry = L::max(smallest_near, entry);
+            exit = L::min(largest_far, exit);
+        }
+        entry.store_unaligned(entry_lo.data());
+        return simd::mask_bits(entry <= exit);
+    }
+
+private:
+    Float origin_lo_[3], origin_hi_[3], inv_lo_[3], inv_hi_[3];
+    int near_row_[3], far_row_[3];
+    float tmin_lo_;
+};
+
+}  // namespace trident::bvh

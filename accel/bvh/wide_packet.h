@@ -1,0 +1,205 @@
+#pragma once
+// Ray packets through the wide BVH (included by wide_bvh.h): the whole packet walks the tree with
+// one stack, each of a node's children tested against every lane (one lane per ray, the slab test
+// of core/slab_test.h with the planes ordered per lane), the children some lane enters visited
+// nearest first by their nearest lane's entry, and subtrees that at most SingleRayLanes lanes
+// still need handed to the single-ray walk (Benthin et al. 2012, as bvh_packet.h and Embree's
+// hybrid traversal do). A leaf tests each of its triangles against the lanes that need it.
+//
+// Per lane, the box test, the pruning rule (entry <= closest hit widened by kPruneSlack) and the
+// tie rule (lowest id at equal t) are the single-ray walk's, so every lane ends with the single
+// ray's hit bit for bit whatever order the packet visits the children in.
+#include <array>
+#include <bit>
+#include <cstdint>
+#include <optional>
+#include <xsimd/xsimd.hpp>
+
+#include "accel/bvh/wide_frustum.h"
+#include "simd/mask.h"
+
+namespace trident {
+
+template <std::size_t Width, std::size_t BlockSize>
+template <TriangleTest Test, SlabTest Slabs, class Arch, class Counters, int SingleRayLanes>
+void WideBvh<Width, BlockSize>::intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits,
+                                          Counters& counters) const {
+    traverse_packet<false, Test, Slabs, SingleRayLanes>(rays, hits, counters);
+}
+
+template <std::size_t Width, std::size_t BlockSize>
+template <TriangleTest Test, SlabTest Slabs, class Arch, class Counters, int SingleRayLanes>
+typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::occluded(const RayPacket<Arch>& rays,
+                                                                   Counters& counters) const {
+    HitPacket<Arch> limits(rays);
+    return traverse_packet<true, Test, Slabs, SingleRayLanes>(rays, limits, counters);
+}
+
+template <std::size_t Width, std::size_t BlockSize>
+template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
+typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::trace_singly(const RayPacket<Arch>& rays, std::uint32_t lanes,
+                                                                       bvh::ChildRef from, HitPacket<Arch>& hits,
+                                                                       Counters& counters) const {
+    using L = Lanes<typename RayPacket<Arch>::Float>;
+    const auto ox = L::to_array(rays.origin.x), oy = L::to_array(rays.origin.y), oz = L::to_array(rays.origin.z);
+    const auto dx = L::to_array(rays.dir.x), dy = L::to_array(rays.dir.y), dz = L::to_array(rays.dir.z);
+    const auto tmin = L::to_array(rays.tmin), tmax = L::to_array(rays.tmax);
+    auto t = L::to_array(hits.t), u = L::to_array(hits.u), v = L::to_array(hits.v);
+    std::array<std::uint32_t, L::width> ids;
+    hits.triangle.store_unaligned(ids.data());
+    std::array<bool, L::width> found{};
+    for (; lanes != 0; lanes &= lanes - 1) {
+        const int i = std::countr_zero(lanes);
+        const Ray ray{{ox[i], oy[i], oz[i]}, {dx[i], dy[i], dz[i]}, tmin[i], tmax[i]};
+        const Hit so_far = ids[i] == kNoTriangle ? Hit{kNoTriangle, t[i]} : Hit{ids[i], t[i], u[i], v[i]};
+        const Hit hit = traverse<AnyHit, Test, Slabs>(ray, from, so_far, counters);
+        if (!hit.is_hit()) continue;
+        found[i] = AnyHit;
+        ids[i] = hit.triangle, u[i] = hit.u, v[i] = hit.v;
+        t[i] = AnyHit ? -kInfinity : hit.t;  // an any-hit lane that has hit admits no box again
+    }
+    hits.triangle = xsimd::batch<std::uint32_t, Arch>::load_unaligned(ids.data());
+    hits.t = L::from_array(t);
+    hits.u = L::from_array(u);
+    hits.v = L::from_array(v);
+    return RayPacket<Arch>::Mask::load_unaligned(found.data());
+}
+
+template <std::size_t Width, std::size_t BlockSize>
+template <bool AnyHit, TriangleTest Test, SlabTest Slabs, int SingleRayLanes, class Arch, class Counters>
+TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traverse_packet(const RayPacket<Arch>& rays,
+                                                                                          HitPacket<Arch>& hits,
+                                                                                          Counters& counters) const {
+    using Float = typename RayPacket<Arch>::Float;
+    using Mask = typename RayPacket<Arch>::Mask;
+    using L = Lanes<Float>;
+    using UInt = xsimd::batch<std::uint32_t, Arch>;
+    static_assert(SingleRayLanes >= 0 && std::size_t(SingleRayLanes) <= RayPacket<Arch>::width);
+
+    const Mask live = rays.active & (rays.tmin <= rays.tmax);
+    Mask blocked(false);  // any-hit lanes that have hit
+    if (nodes_.empty() || !xsimd::any(live)) return blocked;
+    const auto intersector = packet_intersector<Test>(rays);
+    const Float inf(kInfinity);
+    // Packets of one octant first test a node's children against all their lanes at once
+    // (wide_frustum.h), and lane by lane only the children some lane may enter.
+    const std::optional<bvh::RayGroupBounds> group = bvh::RayGroupBounds::of(rays, live);
+    const bvh::WideFrustumTest<Width, Slabs> frustum(group.value_or(bvh::RayGroupBounds{}));
+    constexpr std::uint32_t kAllChildren = std::uint32_t((std::uint64_t(1) << Width) - 1);
+    // The largest closest-hit distance among the live lanes, an upper bound refreshed after each
+    // leaf (hits only shorten it), for the frustum's far end.
+    const auto largest_t = [&] { return -simd::horizontal_min(xsimd::select(live & !blocked, -hits.t, inf)); };
+    float group_t_max = group ? largest_t() : kInfinity;
+
+    // Lanes that may still find a hit in a node entered at t_entry.
+    const auto needing = [&](const Float& t_entry) { return live & !blocked & (t_entry <= bvh::prune_limit(hits.t)); };
+    // The lanes' triangle limits: their tmax while nothing is hit, else just past the closest t
+    // (bvh::triangle_limit, lane by lane: the bits of a non-negative finite float, plus one).
+    const auto triangle_limits = [&] {
+        const Mask has_hit = hits.t < rays.tmax;
+        const Float next_up = xsimd::bitwise_cast<Float>(xsimd::bitwise_cast<UInt>(hits.t) + UInt(1u));
+        return xsimd::select(has_hit, next_up, hits.t);
+    };
+
+    struct StackEntry {
+        bvh::ChildRef ref;
+        Float t_entry;  // +inf in lanes that do not enter
+    };
+    StackEntry stack[kStackSize];
+    std::size_t stack_size = 0;
+    bvh::ChildRef current = bvh::ChildRef::node(0);
+    Mask lanes = live;
+    for (;;) {
+        if (simd::active_lane_count(lanes) <= SingleRayLanes) {
+            blocked =
+                blocked | trace_singly<AnyHit, Test, Slabs>(rays, simd::mask_bits(lanes), current, hits, counters);
+        } else if (!current.is_leaf()) {
+            const Node& node = nodes_[current.node_index()];
+            counters.visit_node();
+            std::array<StackEntry, Width> entered;
+            std::array<float, Width> nearest;
+            std::size_t entered_count = 0;
+            std::uint32_t candidates = kAllChildren;
+            std::array<float, Width> entry_lo;
+            if (group) candidates = frustum.may_enter(node, bvh::prune_limit(group_t_max), entry_lo);
+            for (; candidates != 0; candidates &= candidates - 1) {
+                const std::size_t k = std::countr_zero(candidates);
+                if (node.child[k].is_empty()) break;  // the used slots come first
+                Float entry = rays.tmin, exit = bvh::prune_limit(hits.t);
+                for (int axis = 0; axis < 3; ++axis) {
+                    const Float lo(node.bounds[bvh::lower_row(axis)][k]), hi(node.bounds[bvh::upper_row(axis)][k]);
+                    detail::clip_to_ordered_slab<Slabs>(xsimd::select(rays.dir_negative[axis], hi, lo),
+                                                        xsimd::select(rays.dir_negative[axis], lo, hi),
+                                                        rays.slab.origin[axis], rays.slab.inv_dir[axis], entry, exit);
+                }
+                const Mask enters = lanes & (entry <= exit);
+                if (!xsimd::any(enters)) continue;
+                const Float t = xsimd::select(enters, entry, inf);
+                entered[entered_count] = {node.child[k], t};
+                // The order key: the frustum's bound where there is one (free), else the nearest lane.
+                nearest[entered_count++] = group ? entry_lo[k] : simd::horizontal_min(t);
+            }
+            if (entered_count != 0) {
+                // The nearest child (by its nearest lane) next; the others stacked farthest first.
+                std::size_t order[Width];
+                for (std::size_t i = 0; i < entered_count; ++i) {
+                    std::size_t j = i;
+                    for (; j > 0 && nearest[order[j - 1]] < nearest[i]; --j) order[j] = order[j - 1];
+                    order[j] = i;
+                }
+                for (std::size_t i = 0; i + 1 < entered_count; ++i) stack[stack_size++] = entered[order[i]];
+                assert(stack_size <= kStackSize);
+                current = entered[order[entered_count - 1]].ref;
+                lanes = needing(entered[order[entered_count - 1]].t_entry);
+                continue;
+            }
+        } else {
+            std::uint32_t remaining = current.triangle_count();
+            for (std::uint32_t b = current.first_block(); remaining != 0; ++b) {
+                const Block& block = blocks_[b];
+                for (std::uint32_t k = 0; k < BlockSize && remaining != 0; ++k, --remaining) {
+                    counters.test_triangle();
+                    const Vec3T<Float> a(Float(block.a[0][k]), Float(block.a[1][k]), Float(block.a[2][k]));
+                    const Vec3T<Float> b_(Float(block.b[0][k]), Float(block.b[1][k]), Float(block.b[2][k]));
+                    const Vec3T<Float> c(Float(block.c[0][k]), Float(block.c[1][k]), Float(block.c[2][k]));
+                    TriangleHitT<Float> h{Float(0.0f), Float(0.0f), Float(0.0f)};  // read where hit only
+                    const Mask hit = lanes & intersector.intersect(a, b_, c, triangle_limits(), h);
+                    if (!xsimd::any(hit)) continue;
+                    if constexpr (AnyHit) {
+                        blocked = blocked | hit;
+                        hits.record(hit, block.id[k], h);
+                        hits.t = xsimd::select(hit, Float(-kInfinity), hits.t);
+                        lanes = lanes & !hit;
+                        if (!xsimd::any(lanes)) break;
+                    } else {
+                        // Nearer wins; at the same t the lower id (lane by lane: rare).
+                        Mask wins = hit & (h.t < hits.t);
+                        const Mask tied = hit & (h.t == hits.t);
+                        if (xsimd::any(tied)) {
+                            std::array<std::uint32_t, L::width> ids;
+                            hits.triangle.store_unaligned(ids.data());
+                            std::array<bool, L::width> lower{};
+                            for (std::uint32_t bits = simd::mask_bits(tied); bits != 0; bits &= bits - 1)
+                                lower[std::countr_zero(bits)] = block.id[k] < ids[std::countr_zero(bits)];
+                            wins = wins | (tied & Mask::load_unaligned(lower.data()));
+                        }
+                        hits.record(wins, block.id[k], h);
+                    }
+                }
+                if (AnyHit && !xsimd::any(lanes)) break;
+            }
+            if (group) group_t_max = largest_t();
+        }
+        for (;;) {  // pop the next node some lane still needs
+            if (stack_size == 0) return blocked;
+            const StackEntry& entry = stack[--stack_size];
+            lanes = needing(entry.t_entry);
+            if (xsimd::any(lanes)) {
+                current = entry.ref;
+                break;
+            }
+        }
+    }
+}
+
+}  // namespace trident

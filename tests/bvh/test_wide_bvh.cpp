@@ -1,0 +1,295 @@
+// The wide BVH (accel/bvh/wide_bvh.h) at each width and block size it ships: its layout holds
+// every triangle once with its exact corners inside its boxes; single rays find the binary BVH's
+// closest t bit for bit and the double-precision reference's hits; any hit agrees with closest
+// hit; and packets of every width give each lane the wide single ray's hit bit for bit (the tie
+// rule makes the answer independent of the visiting order, so no tie is allowed).
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <random>
+#include <span>
+#include <vector>
+
+#include "accel/bvh/wide_bvh.h"
+#include "bvh_test_helpers.h"
+#include "simd/each_arch.h"
+#include "support/packet_agreement.h"
+#include "support/random_scenes.h"
+#include "support/reference_check.h"
+
+using namespace trident;
+using namespace trident::testing;
+
+namespace {
+
+/// The layout's promises, checked against the mesh.
+template <std::size_t Width, std::size_t BlockSize>
+void check_layout(const WideBvh<Width, BlockSize>& wide, const Mesh& mesh) {
+    using Tree = WideBvh<Width, BlockSize>;
+    const auto nodes = wide.nodes();
+    const auto blocks = wide.blocks();
+    const std::size_t n = mesh.triangle_count();
+    REQUIRE(nodes.empty() == (n == 0));
+    std::vector<int> seen(n, 0), node_seen(nodes.size(), 0);
+    std::size_t wrong_corners = 0, outside_box = 0, unpacked_slots = 0, padding_differs = 0, leaves = 0, max_depth = 0,
+                children = 0;
+    auto walk = [&](auto&& self, std::uint32_t index, std::size_t depth) -> void {
+        REQUIRE(index < nodes.size());
+        ++node_seen[index];
+        const typename Tree::Node& node = nodes[index];
+        bool empty_seen = false;
+        for (std::size_t k = 0; k < Width; ++k) {
+            const bvh::ChildRef ref = node.child[k];
+            if (ref.is_empty()) {
+                empty_seen = true;
+                continue;
+            }
+            unpacked_slots += empty_seen;
+            ++children;
+            Aabb box;
+            box.lo = {node.bounds[bvh::lower_row(0)][k], node.bounds[bvh::lower_row(1)][k],
+                      node.bounds[bvh::lower_row(2)][k]};
+            box.hi = {node.bounds[bvh::upper_row(0)][k], node.bounds[bvh::upper_row(1)][k],
+                      node.bounds[bvh::upper_row(2)][k]};
+            if (!ref.is_leaf()) {
+                self(self, ref.node_index(), depth + 1);
+                continue;
+            }
+            ++leaves;
+            max_depth = std::max(max_depth, depth + 1);
+            REQUIRE(ref.first_block() + ref.template block_count<BlockSize>() <= blocks.size());
+            for (std::uint32_t lane = 0; lane < ref.template block_count<BlockSize>() * BlockSize; ++lane) {
+                const auto& block = blocks[ref.first_block() + lane / BlockSize];
+                const std::size_t i = lane % BlockSize;
+                const Triangle tri{{block.a[0][i], block.a[1][i], block.a[2][i]},
+                                   {block.b[0][i], block.b[1][i], block.b[2][i]},
+                                   {block.c[0][i], block.c[1][i], block.c[2][i]}};
+                REQUIRE(block.id[i] < n);
+                const Triangle expected = triangle_of(mesh, block.id[i]);
+                wrong_corners += !(tri.a == expected.a && tri.b == expected.b && tri.c == expected.c);
+                outside_box += !box.contains(tri.bounds());
+                if (lane < ref.triangle_count()) {
+                    ++seen[block.id[i]];
+                } else {  // padding repeats the leaf's last triangle
+                    const auto& last = blocks[ref.first_block() + (ref.triangle_count() - 1) / BlockSize];
+                    padding_differs += block.id[i] != last.id[(ref.triangle_count() - 1) % BlockSize];
+                }
+            }
+        }
+    };
+    if (!nodes.empty()) walk(walk, 0, 0);
+    CHECK(wrong_corners == 0);
+    CHECK(outside_box == 0);
+    CHECK(unpacked_slots == 0);
+    CHECK(padding_differs == 0);
+    CHECK(std::count(seen.begin(), seen.end(), 1) == std::ptrdiff_t(n));
+    CHECK(std::count(node_seen.begin(), node_seen.end(), 1) == std::ptrdiff_t(nodes.size()));
+    const AccelStats& stats = wide.stats();
+    CHECK(stats.triangles == n);
+    CHECK(stats.leaves == leaves);
+    CHECK(stats.nodes == nodes.size() + leaves);
+    CHECK(stats.max_depth == max_depth);
+    CHECK(stats.references == n);
+    CHECK(stats.bytes == nodes.size() * sizeof(typename Tree::Node) + blocks.size() * sizeof(typename Tree::Block));
+    if (!nodes.empty()) {
+        CHECK(stats.mean_children == doctest::Approx(double(children) / double(nodes.size())));
+        CHECK(stats.block_fill == doctest::Approx(double(n) / double(blocks.size() * BlockSize)));
+        CHECK(stats.block_fill > 0.0);
+        CHECK(stats.block_fill <= 1.0);
+    }
+}
+
+/// Single rays: closest t bit for bit the binary BVH's (the same tree's triangles, whichever
+/// triangle of a tie), the reference's hits, and any hit where closest hit finds one.
+template <std::size_t Width, std::size_t BlockSize, TriangleTest Test = TriangleTest::watertight,
+          SlabTest Slabs = SlabTest::robust>
+void check_single_rays(const WideBvh<Width, BlockSize>& wide, const Bvh& binary, const Mesh& mesh,
+                       std::span<const Ray> rays) {
+    NoCounters none;
+    std::vector<Hit> hits;
+    std::size_t t_differs = 0, occluded_differs = 0, found = 0;
+    for (const Ray& ray : rays) {
+        const Hit hit = wide.template intersect<Test, Slabs>(ray, none);
+        const Hit expected = binary.intersect<Test, Slabs>(ray, none);
+        t_differs += hit.is_hit() != expected.is_hit() || (hit.is_hit() && !same_bits(hit.t, expected.t));
+        occluded_differs += wide.template occluded<Test, Slabs>(ray, none) != hit.is_hit();
+        found += hit.is_hit();
+        hits.push_back(hit);
+    }
+    CHECK(found > 0);
+    CHECK(t_differs == 0);
+    CHECK(occluded_differs == 0);
+    if constexpr (Test == TriangleTest::watertight && Slabs == SlabTest::robust) {
+        const std::vector<Triangle> triangles = gather_triangles(mesh);
+        require_agreement(compare_with_reference<Hit>(triangles, rays, hits));
+    }
+}
+
+/// Packets of every width this machine runs, with the single-ray switch off, at 1 lane and at
+/// every lane, against the wide single ray; no tie allowed.
+template <std::size_t Width, std::size_t BlockSize, TriangleTest Test = TriangleTest::watertight,
+          SlabTest Slabs = SlabTest::robust>
+void check_packets(const WideBvh<Width, BlockSize>& wide, std::span<const Ray> rays, const LaneFilter& off = {}) {
+    NoCounters none;
+    for_each_packet_arch([&]<class Arch>() {
+        constexpr int lanes = int(RayPacket<Arch>::width);
+        const auto compare = [&]<int SingleRayLanes>() {
+            return compare_packet_lanes<Arch>(
+                rays, 0, off,
+                [&](const RayPacket<Arch>& packet, HitPacket<Arch>& hits) {
+                    wide.template intersect<Test, Slabs, Arch, NoCounters, SingleRayLanes>(packet, hits, none);
+                    return simd::mask_bits(
+                        wide.template occluded<Test, Slabs, Arch, NoCounters, SingleRayLanes>(packet, none));
+                },
+                [&](const Ray& ray) { return wide.template intersect<Test, Slabs>(ray, none); },
+                [&](const Ray& ray) { return wide.template occluded<Test, Slabs>(ray, none); });
+        };
+        compare.template operator()<0>().require_agreement();
+        compare.template operator()<1>().require_agreement();
+        compare.template operator()<lanes>().require_agreement();
+    });
+}
+
+/// Every shipped width and block size, one body.
+template <class Body>
+void for_each_wide_tree(const Mesh& mesh, const BvhOptions& options, Body&& body) {
+    body(WideBvh<4, 4>::build(mesh, options));
+    body(WideBvh<8, 4>::build(mesh, options));
+}
+
+/// A lattice of unit right triangles in the planes x = i, y = j, z = k: boxes with integer planes,
+/// triangles sharing edges, rays hitting several at one t.
+Mesh axis_lattice() {
+    Mesh mesh;
+    auto tri = [&](Vec3f p, Vec3f q, Vec3f r) {
+        mesh.add_triangle(mesh.add_vertex(p), mesh.add_vertex(q), mesh.add_vertex(r));
+    };
+    for (int i = 0; i <= 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) {
+                const float a = float(i), b = float(j), c = float(k);
+                tri({a, b, c}, {a, b + 1, c}, {a, b, c + 1});
+                tri({b, a, c}, {b, a, c + 1}, {b + 1, a, c});
+                tri({b, c, a}, {b + 1, c, a}, {b, c + 1, a});
+            }
+    return mesh;
+}
+
+/// Axis-parallel rays starting on the lattice's planes, with +0 and -0 in the other components.
+std::vector<Ray> rays_on_lattice_planes() {
+    std::vector<Ray> rays;
+    for (int axis = 0; axis < 3; ++axis)
+        for (float sign : {1.0f, -1.0f})
+            for (float zero : {0.0f, -0.0f})
+                for (int u = 0; u <= 6; ++u)
+                    for (int v = 0; v <= 6; ++v) {
+                        Ray ray;
+                        ray.dir = Vec3f{zero, zero, zero};
+                        ray.dir[axis] = sign;
+                        ray.origin[axis] = sign > 0 ? -1.0f : 4.0f;
+                        ray.origin[(axis + 1) % 3] = 0.5f * float(u);
+                        ray.origin[(axis + 2) % 3] = 0.5f * float(v);
+                        rays.push_back(ray);
+                    }
+    return rays;
+}
+
+}  // namespace
+
+TEST_CASE("the wide layout holds every triangle once, inside its boxes, for every builder setting") {
+    BvhOptions sweep;
+    sweep.builder = BvhBuilder::sweep_sah;
+    BvhOptions one_per_leaf;
+    one_per_leaf.max_leaf_size = 1;
+    BvhOptions large_leaves;
+    large_leaves.max_leaf_size = 40;
+    large_leaves.intersection_cost = 0.05f;  // the binary builder then keeps leaves of up to 40
+    for (const std::size_t count : {1, 3, 17, 600}) {
+        const Mesh mesh = random_soup(count, 7 + std::uint32_t(count), 0.15f);
+        for (const BvhOptions& options : {BvhOptions{}, sweep, one_per_leaf, large_leaves}) {
+            CAPTURE(count);
+            CAPTURE(options.max_leaf_size);
+            for_each_wide_tree(mesh, options, [&](const auto& wide) { check_layout(wide, mesh); });
+        }
+    }
+    for_each_wide_tree(builtin_scene("teapot").mesh, {}, [&](const auto& wide) {
+        check_layout(wide, builtin_scene("teapot").mesh);
+        CHECK(wide.stats().mean_children > 2.5);  // wide in fact, not a binary tree in disguise
+    });
+}
+
+TEST_CASE("an empty mesh gives a wide tree that every ray misses") {
+    const Mesh empty;
+    for_each_wide_tree(empty, {}, [&](const auto& wide) {
+        CHECK(wide.nodes().empty());
+        const Ray ray{{0, 0, -1}, {0, 0, 1}};
+        CHECK_FALSE(wide.intersect(ray).is_hit());
+        CHECK_FALSE(wide.occluded(ray));
+    });
+}
+
+TEST_CASE("wide single rays find the binary tree's closest t and the reference's hits") {
+    const Mesh soup = random_soup(800, 31, 0.15f);
+    const std::vector<Ray> rays = random_rays(soup.bounds(), 500, 32);
+    const Bvh binary = Bvh::build(soup);
+    for_each_wide_tree(soup, {}, [&](const auto& wide) {
+        check_single_rays(wide, binary, soup, rays);
+        check_single_rays<std::decay_t<decltype(wide)>::width, std::decay_t<decltype(wide)>::block_size,
+                          TriangleTest::moller_trumbore>(wide, binary, soup, rays);
+        check_single_rays<std::decay_t<decltype(wide)>::width, std::decay_t<decltype(wide)>::block_size,
+                          TriangleTest::watertight, SlabTest::fast>(wide, binary, soup, rays);
+    });
+    const Mesh lattice = axis_lattice();
+    const Bvh lattice_binary = Bvh::build(lattice);
+    const std::vector<Ray> plane_rays = rays_on_lattice_planes();
+    for_each_wide_tree(lattice, {},
+                       [&](const auto& wide) { check_single_rays(wide, lattice_binary, lattice, plane_rays); });
+    const Mesh& teapot = builtin_scene("teapot").mesh;
+    const std::vector<Ray> camera = camera_rays(builtin_scene("teapot").camera, 1500, 33);
+    for_each_wide_tree(teapot, {},
+                       [&](const auto& wide) { check_single_rays(wide, builtin_bvh("teapot"), teapot, camera); });
+}
+
+TEST_CASE("at equal t the lowest triangle id wins, whatever the order") {
+    // Two copies of one triangle far apart in the file: every order of visiting must keep id 0.
+    Mesh mesh = random_soup(300, 41, 0.1f);
+    const Triangle first = triangle_of(mesh, 0);
+    mesh.add_triangle(mesh.add_vertex(first.a), mesh.add_vertex(first.b), mesh.add_vertex(first.c));
+    const Vec3f centre = first.centroid();
+    const Ray ray{centre - Vec3f{0.0f, 0.0f, 3.0f}, {0.0f, 0.0f, 1.0f}};
+    for_each_wide_tree(mesh, {}, [&](const auto& wide) {
+        const Hit hit = wide.intersect(ray);
+        REQUIRE(hit.is_hit());
+        TriangleHit h;
+        if (TriangleIntersector<TriangleTest::watertight>(ray).intersect(first, kInfinity, h) && same_bits(h.t, hit.t))
+            CHECK(hit.triangle == 0);
+    });
+}
+
+TEST_CASE("wide packets give every lane the wide single ray's hit bit for bit") {
+    const Mesh soup = random_soup(700, 51, 0.15f);
+    const std::vector<Ray> incoherent = random_rays(soup.bounds(), 400, 52);
+    const std::vector<Ray> every_sign = rays_of_every_sign({0.05f, -0.1f, 0.2f}, 640, 53);
+    const std::vector<Ray> windowed = windowed_rays_from_inside(soup.bounds(), 400, 54);
+    for_each_wide_tree(soup, {}, [&](const auto& wide) {
+        using Tree = std::decay_t<decltype(wide)>;
+        check_packets(wide, incoherent);
+        check_packets(wide, every_sign);
+        check_packets(wide, windowed);
+        check_packets<Tree::width, Tree::block_size, TriangleTest::moller_trumbore>(wide, incoherent);
+        check_packets<Tree::width, Tree::block_size, TriangleTest::watertight, SlabTest::fast>(wide, every_sign);
+        check_packets(wide, incoherent, [](std::size_t lane) { return lane % 3 == 1; });
+    });
+    const Mesh lattice = axis_lattice();
+    const std::vector<Ray> plane_rays = rays_on_lattice_planes();
+    std::vector<Ray> shuffled = plane_rays;
+    std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(5));
+    for_each_wide_tree(lattice, {}, [&](const auto& wide) {
+        check_packets(wide, plane_rays);
+        check_packets(wide, shuffled);
+    });
+    const Scene& teapot = builtin_scene("teapot");
+    const std::vector<Ray> blocks = pixel_block_rays(teapot.camera, 320, 180, 4, 4, 200, 55);
+    for_each_wide_tree(teapot.mesh, {}, [&](const auto& wide) { check_packets(wide, blocks); });
+}
