@@ -112,6 +112,8 @@ def fastest_chart(report, out_dir, written, kind):
     ax.set_xticks(range(len(scenes)))
     ax.set_xticklabels(scenes, rotation=20)
     log_scale_if_wide(ax, [r["mrays_per_s"] for r in best.values()])
+    low, high = ax.get_ylim()  # room above the bars for their labels
+    ax.set_ylim(low, high * (4 if ax.get_yscale() == "log" else 1.3))
     ax.legend()
     ax.grid(axis="y", alpha=0.3)
     ax.set_ylabel("Mrays/s")

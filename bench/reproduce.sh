@@ -107,4 +107,4 @@ with open(manifest, "w") as f:
 EOF
 $python bench/summarize.py page --out bench/RESULTS.md
 $python bench/summarize.py check bench/RESULTS.md
-echo "reproduce.sh: bench/RESULTS.md written from $out/run.json ($((SECONDS / 60)) minutes in all)" >&2
+echo "reproduce.sh: bench/RESULTS.md written from $out/run.json ($SECONDS s in all)" >&2
