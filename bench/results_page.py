@@ -33,6 +33,11 @@ def structure_of(row):
     return row["structure"]
 
 
+def is_embree(row):
+    """Embree's rows, whatever their call (`embree`, or a name of its own for a stream row)."""
+    return row["structure"].startswith("embree")
+
+
 def name_of(structure):
     if structure in LABELS:
         return LABELS[structure]
@@ -42,6 +47,11 @@ def name_of(structure):
 
 def plural(count, noun):
     return "{} {}{}".format(count, noun, "" if count == 1 else "s")
+
+
+def per_thread_count(run):
+    """What a cell of values per thread count holds, e.g. '1 thread / 2 threads'."""
+    return " / ".join(plural(t, "thread") for t in run.threads)
 
 
 def two(x):
@@ -70,10 +80,10 @@ class Run:
         self.kinds = [k for k in KINDS if any(r.get("rays", "primary") == k for r in self.rows)]
 
     def ours(self, **match):
-        return [r for r in self.select(**match) if r["structure"] != "embree"]
+        return [r for r in self.select(**match) if not is_embree(r)]
 
     def embree(self, **match):
-        return [r for r in self.select(**match) if r["structure"] == "embree"]
+        return [r for r in self.select(**match) if is_embree(r)]
 
     def select(self, **match):
         out = []
@@ -234,7 +244,7 @@ def embree_section(runs):
     out = ["## Ours against Embree on the same rays", "",
            "Embree's time over ours on the same rays, so above 1 is faster than Embree: single rays against "
            "rtcIntersect1 (rtcOccluded1 for shadow rays), packets against rtcIntersectN / rtcOccludedN of the "
-           "same width (diffuse packets: rtcIntersect1). Each cell is one thread / two threads. A plain figure "
+           "same width (diffuse packets: rtcIntersect1). A cell holds one figure per thread count. A plain figure "
            "is paired (`--paired embree`: each render followed by Embree's on the same rays, the median of the "
            "pairs' ratios); a figure marked * is the ratio of the two rows' medians, taken minutes apart, for "
            "rows the run did not pair."]
@@ -243,7 +253,7 @@ def embree_section(runs):
         if run is None or not any(r.get("paired_over_embree") is not None or r.get("ratio_to_embree") is not None
                                   for r in run.ours(rays=kind)):
             continue
-        out += ["", "### {} rays, from {}".format(kind.capitalize(), run_label(run)), ""]
+        out += ["", "### {} rays, from {}: {}".format(kind.capitalize(), run_label(run), per_thread_count(run)), ""]
 
         def cell(scene, s, w):
             values = []
@@ -268,17 +278,19 @@ def build_section(runs):
     run = runs.runs["primary"]
     structures = run.structures(rays="primary") + (["embree"] if run.embree(rays="primary") else [])
     out = ["## Build time, memory and error", "",
-           "From {}. Build: ms from the triangles in memory to the structure ready to trace, one thread / two "
-           "threads. Memory: bytes the structure holds per triangle (Embree: what its memory monitor saw the "
+           "From {}. Build: ms from the triangles in memory to the structure ready to trace, {}. Memory: bytes the structure holds per triangle (Embree: what its memory monitor saw the "
            "scene allocate). Error: against {}, single rays at {} threads: rays whose hit or miss differs % / "
            "rays whose hit triangle differs % / the largest relative difference in hit distance.".format(
-               run_label(run), run.report.get("reference", "the reference"), run.threads[-1]), ""]
+               run_label(run), per_thread_count(run), run.report.get("reference", "the reference"), run.threads[-1]),
+           ""]
 
     def scalar_row(scene, s, t):
+        """The structure's single-ray row (its build, memory and errors), else its first row."""
         if s == "embree":
             return next((r for r in run.embree(scene=scene, threads=t, rays="primary")
                          if r["traversal"].endswith("1")), None)
-        return run.one(scene=scene, structure=s, traversal="scalar", threads=t, rays="primary")
+        return run.one(scene=scene, structure=s, traversal="scalar", threads=t, rays="primary") or \
+            run.one(scene=scene, structure=s, threads=t, rays="primary")
 
     body = []
     for scene in run.scenes:
@@ -317,7 +329,7 @@ def fastest(run, scene, kind, threads):
 
 
 def study_winners(study):
-    """The study's fastest and slowest structure per scene, by its Mrays/s."""
+    """The study's fastest structure per scene, by its Mrays/s."""
     out = {}
     for scene, ref in study.items():
         speeds = []
@@ -327,7 +339,7 @@ def study_winners(study):
             except (KeyError, ValueError):
                 pass
         if speeds:
-            out[scene] = (max(speeds)[1], min(speeds)[1])
+            out[scene] = max(speeds)[1]
     return out
 
 
@@ -354,7 +366,7 @@ def question_section(runs, study, scene_kinds):
                 continue
             top = ranked[0]
             cells = [scene, scene_kinds.get(scene, "-")]
-            study_best = winners.get(scene, (None, None))[0]
+            study_best = winners.get(scene)
             cells.append(name_of(study_best) if study_best else "-")
             cells.append("**{} {}**".format(name_of(structure_of(top)), top["traversal"]))
             cells.append(fmt(top["mrays_per_s"]))
@@ -426,8 +438,8 @@ def measure(runs, spec, scene_kinds):
         if spec["measure"] == "value":
             out.append((r, r.get(spec["column"]), False))
         elif spec["measure"] == "speed_ratio":
-            paired = spec.get("paired") and r.get(spec["paired"])
-            if paired is not None and paired is not False:
+            paired = r.get(spec["paired"]) if "paired" in spec else None
+            if paired is not None:
                 out.append((r, paired, True))
                 continue
             if spec["to"].get("structure") == "embree":
@@ -443,12 +455,24 @@ def measure(runs, spec, scene_kinds):
     return [m for m in out if m[1] is not None]
 
 
+def checked_targets(targets):
+    """The targets, each with what the page needs of it, or a PageError naming what it lacks."""
+    for i, spec in enumerate(targets):
+        missing = [k for k in ("issue", "target", "measure", "reason", "trials") if k not in spec]
+        if not ("at_least" in spec) ^ ("at_most" in spec):
+            missing.append("one bound, at_least or at_most")
+        if spec.get("measure") in ("speed_ratio", "column_ratio") and "to" not in spec:
+            missing.append("to")
+        if spec.get("measure") in ("value", "column_ratio") and "column" not in spec:
+            missing.append("column")
+        if missing:
+            raise PageError("bench/targets.json: target {} ({}) lacks {}".format(
+                i + 1, spec.get("target", "unnamed"), ", ".join(missing)))
+    return targets
+
+
 def meets(spec, value):
-    if "at_least" in spec:
-        return value >= spec["at_least"]
-    if "at_most" in spec:
-        return value <= spec["at_most"]
-    raise PageError("bench/targets.json: target '{}' has neither at_least nor at_most".format(spec["target"]))
+    return value >= spec["at_least"] if "at_least" in spec else value <= spec["at_most"]
 
 
 def describe(values, spec):
@@ -502,7 +526,7 @@ def page(manifest_path, study_table_path, scenes_path, targets_path):
     runs = RunSet(manifest_path)
     study = read_study_table(study_table_path)
     scene_kinds = read_scene_kinds(scenes_path)
-    targets = load_json(targets_path)
+    targets = checked_targets(load_json(targets_path))
     out = ["# Results", ""]
     if runs.manifest.get("placeholder"):
         out += ["> **Placeholder.** {} Its figures show the page's layout and mean nothing; the lead's full run "
