@@ -4,8 +4,9 @@
 A tiny synthetic run set whose answers are known by hand: the fastest structure per scene and
 ray kind with its margins, paired figures preferred over ratios of medians, a structure the
 generator was not told of (a wide BVH) given its own columns, the targets measured, runs of two
-machines refused, and `check` failing on a page that differs from its JSON. Then the committed
-page against the committed JSON (skipped, with a message, without ../shared).
+machines refused, `check` failing on a page that differs from its JSON, and plot.py's charts of
+one ray kind. Then the committed page against the committed JSON (skipped, with a message, without
+../shared).
 """
 import copy
 import json
@@ -238,6 +239,27 @@ class Check(RunSetFixture):
         self.assertEqual(failed.returncode, 1)
         self.assertIn("differs", failed.stderr)
         self.assertIn("41.0", failed.stderr)
+
+
+class Charts(RunSetFixture):
+    def plot(self, *args):
+        return subprocess.run([sys.executable, os.path.join(BENCH, "plot.py"), self.path("ray_kinds.json"),
+                               "--out", self.path("charts")] + list(args), capture_output=True, text=True)
+
+    def test_a_ray_kind_gets_its_fastest_traversal_chart(self):
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            self.skipTest("python3-matplotlib is missing: plot.py not tested")
+        done = self.plot("--rays", "shadow")
+        self.assertEqual(done.returncode, 0, done.stderr)
+        written = sorted(os.path.basename(p) for p in done.stdout.split())
+        self.assertEqual(written, ["fastest.png", "mrays.png"])  # no build time for shadow rays, one traversal
+        with open(self.path("charts/fastest.png"), "rb") as f:
+            self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+        missing = self.plot("--rays", "diffuse")
+        self.assertNotEqual(missing.returncode, 0)
+        self.assertIn("no rows of diffuse rays", missing.stderr)
 
 
 class TheCommittedPage(unittest.TestCase):
