@@ -64,6 +64,8 @@ dirty=$(git status --porcelain --untracked-files=no -- . ':!bench/results' ':!be
     head -c 1 | wc -c)
 date=$(date -u +%Y-%m-%dT%H:%M:%SZ)
 
+# The run set replaces the last one whole: no file of an older run stays beside it.
+rm -rf "$out" "$charts"
 mkdir -p "$out" "$charts"
 step primary $bench --scenes $scenes "${only[@]}" --rays primary --simd scalar,simd8,simd16 --threads 1,2 \
     --embree 1,8,16 --paired scalar,bvh,embree "${primary_size[@]}" "${repeats[@]}" --quiet \
