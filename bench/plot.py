@@ -1,11 +1,14 @@
 #!/usr/bin/env python3
 """Charts from trident-bench's JSON (--json FILE), written as PNGs into a folder.
 
-    python3 bench/plot.py results.json --out charts/
+    python3 bench/plot.py results.json --out charts/ [--rays primary|shadow|diffuse]
 
 Always: build time and Mrays/s per scene and structure (the reference study's Figures 17 and 18,
-grouped bars) and speed against error (scatter). When the run has them: scalar against SIMD
+grouped bars), each structure's fastest traversal per scene (the study's question, bars labelled
+with the traversal) and speed against error (scatter). When the run has them: scalar against SIMD
 traversals, thread scaling, and the sweep chart of a --sweep run (Figure 16 for octree-depth).
+`--rays shadow` or `diffuse` charts that ray kind's rows instead of the primary rays': Mrays/s,
+the fastest traversal and scalar against SIMD (build time and error are the primary rows').
 Needs only python3 and Debian's python3-matplotlib; draws with the Agg backend (no display).
 """
 import argparse
@@ -22,21 +25,17 @@ except ImportError:
     sys.exit("plot.py: matplotlib is missing (Debian: apt-get install python3-matplotlib)")
 
 # The row helpers the Markdown summaries use too (bench/summarize.py, standard library only).
-from summarize import EMBREE_CALL, scenes_in_order
+from summarize import EMBREE_CALL, LABELS, ordered, scenes_in_order
 
 STRUCTURE_ORDER = ["bvh", "kdtree", "octree", "brute", "embree"]
-LABELS = {"bvh": "BVH", "kdtree": "KD-tree", "octree": "Octree", "brute": "brute force", "embree": "Embree"}
-
-
-def ordered(values, order):
-    return sorted(set(values), key=lambda v: (order.index(v) if v in order else len(order), v))
 
 
 def headline_rows(report):
-    """Rows at the run's largest thread count, scalar traversal (Embree: rtcIntersect1)."""
+    """Rows at the run's largest thread count, single rays (Embree: rtcIntersect1 or rtcOccluded1)."""
     threads = max(report["threads"])
     rows = [r for r in report["rows"] if r["threads"] == threads and r["sweep_value"] is None]
-    return [r for r in rows if r["traversal"] in ("scalar", EMBREE_CALL["scalar"])], threads
+    return [r for r in rows if r["traversal"] == "scalar" or
+            (r["structure"] == "embree" and r["traversal"] in (EMBREE_CALL["scalar"], "rtcOccluded1"))], threads
 
 
 def subtitle(report, threads):
@@ -85,6 +84,42 @@ def per_structure_chart(report, out_dir, written, name, ylabel, title, value_of)
     ax.set_ylabel(ylabel)
     ax.set_title("{}\n{}".format(title, subtitle(report, threads)), fontsize=10)
     save(fig, out_dir, name, written)
+
+
+def fastest_chart(report, out_dir, written, kind):
+    """Per scene, each structure's fastest traversal at the run's largest thread count, labelled."""
+    threads = max(report["threads"])
+    best = {}
+    for r in report["rows"]:
+        if r["threads"] != threads or r["sweep_value"] is not None or r["mrays_per_s"] is None:
+            continue
+        key = (r["scene"], r["structure"])
+        if key not in best or r["mrays_per_s"] > best[key]["mrays_per_s"]:
+            best[key] = r
+    if not best:
+        return
+    scenes = scenes_in_order(list(best.values()))
+    structures = ordered([s for _, s in best], STRUCTURE_ORDER)
+    width = 0.8 / len(structures)
+    fig, ax = plt.subplots(figsize=(max(9, len(scenes) * 1.6), 5))
+    for i, structure in enumerate(structures):
+        xs = [k + (i - (len(structures) - 1) / 2) * width for k in range(len(scenes))]
+        rows = [best.get((scene, structure)) for scene in scenes]
+        ax.bar(xs, [r["mrays_per_s"] if r else 0 for r in rows], width, label=LABELS.get(structure, structure))
+        for x, r in zip(xs, rows):
+            if r:
+                ax.text(x, r["mrays_per_s"], r["traversal"], ha="center", va="bottom", rotation=90, fontsize=7)
+    ax.set_xticks(range(len(scenes)))
+    ax.set_xticklabels(scenes, rotation=20)
+    log_scale_if_wide(ax, [r["mrays_per_s"] for r in best.values()])
+    low, high = ax.get_ylim()  # room above the bars for their labels
+    ax.set_ylim(low, high * (4 if ax.get_yscale() == "log" else 1.3))
+    ax.legend()
+    ax.grid(axis="y", alpha=0.3)
+    ax.set_ylabel("Mrays/s")
+    ax.set_title("{} rays: each structure's fastest traversal\n{}".format(kind.capitalize(), subtitle(report, threads)),
+                 fontsize=10)
+    save(fig, out_dir, "fastest.png", written)
 
 
 def scalar_vs_simd(report, out_dir, written):
@@ -197,30 +232,37 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("json", help="trident-bench --json output")
     parser.add_argument("--out", default="charts", help="folder for the PNGs (default: charts)")
+    parser.add_argument("--rays", default="primary", choices=("primary", "shadow", "diffuse"),
+                        help="the ray kind to chart (default primary)")
     args = parser.parse_args()
     try:
         with open(args.json) as f:
             report = json.load(f)
     except (OSError, ValueError) as e:
         sys.exit("plot.py: {}: {}".format(args.json, e))
-    # The charts are about primary rays; shadow and diffuse rows (--rays) are in the tables.
-    report["rows"] = [r for r in report.get("rows", []) if r.get("rays", "primary") == "primary"]
+    report["rows"] = [r for r in report.get("rows", []) if r.get("rays", "primary") == args.rays]
+    if not report["rows"]:
+        sys.exit("plot.py: {}: no rows of {} rays".format(args.json, args.rays))
     os.makedirs(args.out, exist_ok=True)
     written = []
-    per_structure_chart(report, args.out, written, "build_time.png", "build time, ms",
-                        "Build time per scene and structure (study Figure 17)", lambda r: r["build_ms"])
+    if args.rays == "primary":
+        per_structure_chart(report, args.out, written, "build_time.png", "build time, ms",
+                            "Build time per scene and structure (study Figure 17)", lambda r: r["build_ms"])
     per_structure_chart(report, args.out, written, "mrays.png", "Mrays/s",
-                        "Primary rays per second per scene and structure (study Figure 18)",
+                        "{} rays per second per scene and structure{}".format(
+                            args.rays.capitalize(), " (study Figure 18)" if args.rays == "primary" else ""),
                         lambda r: r["mrays_per_s"])
+    fastest_chart(report, args.out, written, args.rays)
     scalar_vs_simd(report, args.out, written)
-    thread_scaling(report, args.out, written)
-    speed_vs_error(report, args.out, written)
-    # A sweep's chart is sweep_NAME.png, or its JSON's name when that starts with sweep_ too, so two
-    # runs of one sweep on different scenes (sweep_octree-depth_small, _large) keep both charts.
-    stem = os.path.splitext(os.path.basename(args.json))[0]
-    sweep = report.get("sweep") or {}
-    sweep_chart(report, args.out, written,
-                stem + ".png" if stem.startswith("sweep_") else "sweep_{}.png".format(sweep.get("name")))
+    if args.rays == "primary":
+        thread_scaling(report, args.out, written)
+        speed_vs_error(report, args.out, written)
+        # A sweep's chart is sweep_NAME.png, or its JSON's name when that starts with sweep_ too, so
+        # two runs of one sweep on different scenes (sweep_octree-depth_small, _large) keep both.
+        stem = os.path.splitext(os.path.basename(args.json))[0]
+        sweep = report.get("sweep") or {}
+        sweep_chart(report, args.out, written,
+                    stem + ".png" if stem.startswith("sweep_") else "sweep_{}.png".format(sweep.get("name")))
     for path in written:
         print(path)
 

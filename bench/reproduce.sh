@@ -1,80 +1,112 @@
 #!/usr/bin/env bash
-# Re-measures every table and chart of bench/RESULTS.md on this machine, in order (about 80
-# minutes on 2 cores). Run from the repository root after `bash run.sh test` (or any Release
-# build in build/), with ../shared beside the repository and nothing else running. The summary
-# tables of RESULTS.md are then printed from the JSON written here by bench/summarize.py.
+# The run set behind bench/RESULTS.md: every table and chart of it, measured on this machine at
+# this commit, then the page generated from the JSON (bench/summarize.py page). About 30 minutes on
+# 2 cores (an estimate from the rows and the resolution; each step prints how long it took, and the
+# page lists the times). Run from anywhere, with ../shared beside the repository and nothing else
+# running on the machine:
+#
+#     bash bench/reproduce.sh            # the run set: bench/results/*.json, bench/charts, bench/RESULTS.md
+#     bash bench/reproduce.sh --quick    # the same steps on two scenes at 160x90, one repeat (a few
+#                                        # minutes): checks the script and the page; figures meaningless
+#
+# What each step measures:
+#   primary    the study's seven scenes at 1920x1080, every structure, single rays and 8- and 16-lane
+#              packets, 1 and 2 threads, Embree's rtcIntersect1/8/16 rows beside them, and every row
+#              paired with its single rays, the BVH and Embree on the same rays (--paired): Table 2,
+#              ours against Embree, build time, memory, error, the study's question for primary rays.
+#   ray_kinds  primary, shadow and diffuse rays of the same scenes at 960x540 (a quarter of the rays:
+#              the diffuse rows are the run's slowest), the same traversals, threads and Embree calls:
+#              the study's question per ray kind, shadow and diffuse rays against Embree.
+# The trials behind the figures (older runs, other machines, sweeps) are in bench/experiments/.
 set -euo pipefail
+cd "$(dirname "$0")/.."
 bench=build/trident-bench
 scenes=../shared/scenes/scenes.json
 out=bench/results
+charts=bench/charts
 python=/usr/bin/python3  # Debian's, which has matplotlib
-mkdir -p "$out" bench/charts
 
-# Study Table 2: every structure, scalar and each packet width, 1 and 2 threads, Embree beside.
-$bench --scenes $scenes --simd scalar,simd4,simd8,simd16 --threads 1,2 --embree 1,4,8,16 \
-    --json $out/study.json --markdown $out/study.md --csv $out/study.csv
+only=() repeats=() primary_size=(--width 1920 --height 1080) secondary_size=(--width 960 --height 540)
+placeholder=""
+case "${1:-}" in
+    "") ;;
+    --quick)
+        only=(--only teapot,sponza) repeats=(--repeats 1)
+        primary_size=(--width 160 --height 90) secondary_size=(--width 160 --height 90)
+        placeholder="Made by \`bash bench/reproduce.sh --quick\` (Teapot and Sponza at 160x90, one timed run each)."
+        ;;
+    *) echo "reproduce.sh: unknown option '$1' (expected nothing or --quick)" >&2; exit 2 ;;
+esac
+if [[ ! -f $scenes ]]; then
+    echo "reproduce.sh: $scenes is missing: ../shared must sit beside the repository" >&2
+    exit 1
+fi
 
-# The three structures side by side, scalar and 8 and 16 lanes, 1 and 2 threads, without Embree:
-# the KD-tree's and the Octree's speed relative to the BVH's (issues 4 and 6).
-$bench --scenes $scenes --accel bvh,kdtree,octree --simd scalar,simd8,simd16 --threads 1,2 --embree none \
-    --reference self --json $out/structures.json --markdown $out/structures.md
-
-# The issues' ratios in pairs (issues 4 and 6): each primary render followed by the same structure's
-# scalar render, the BVH's at the same traversal and Embree's call of the same width, on the same rays.
-$bench --scenes $scenes --accel bvh,kdtree,octree --simd scalar,simd8,simd16 --threads 1,2 --embree none \
-    --reference self --paired scalar,bvh,embree --json $out/paired.json --markdown $out/paired.md --csv $out/paired.csv
-
-# Two threads over one from paired runs: each 2-thread render timed again on one thread right after.
-$bench --scenes $scenes --accel bvh,kdtree,octree --simd scalar --threads 2 --scaling --embree 1 \
-    --json $out/scaling.json --markdown $out/scaling.md --csv $out/scaling.csv
-
-# Our BVH against Embree's binned SAH builder (RTC_BUILD_QUALITY_MEDIUM, no spatial splits), one
-# thread: build time like for like (issue 3), and Embree's tracing on a tree without spatial splits.
-$bench --scenes $scenes --accel bvh --simd scalar,simd8,simd16 --threads 1 --embree 1,8,16 --embree-quality medium \
-    --reference self --json $out/embree_medium.json --markdown $out/embree_medium.md
-
-# Shadow and diffuse rays beside primary (issue 9), 2 threads.
-$bench --scenes $scenes --rays primary,shadow,diffuse --simd scalar,simd8,simd16 --threads 2 --embree 1,8,16 \
-    --json $out/ray_kinds.json --markdown $out/ray_kinds.md --csv $out/ray_kinds.csv
-
-# Speed against error: both triangle tests and both slab tests, at half resolution; 9 repeats, as
-# the short Teapot runs are the noisiest.
-$bench --scenes $scenes --triangle-test watertight,moller_trumbore --slabs robust,fast --simd scalar,simd16 \
-    --threads 2 --embree 1 --width 960 --height 540 --repeats 9 \
-    --json $out/variants.json --markdown $out/variants.md --csv $out/variants.csv
-
-# The stress suite with the defaults (12M closest-hit and 12M any-hit rays per structure and width),
-# then the other three variants at 100k rays per case for the speed-against-error table. A variant
-# that loses hits exits 1; that is the figure being measured, so it does not stop this script.
-build/trident stress --json $out/stress_default.json > $out/stress_default.txt || true
-for variant in "watertight fast" "moller_trumbore robust" "moller_trumbore fast"; do
-    set -- $variant
-    build/trident stress --rays 100000 --triangle-test $1 --slabs $2 --json $out/stress_$1_$2.json \
-        > $out/stress_$1_$2.txt || true
-done
-
-# Sweeps on the built-in scenes (the study's Figure 16 for the octree depth). A depth of 1 or 2 on
-# the million-triangle hall and city is close to brute force, so those two get a smaller image.
-sweep() {  # name, output suffix, then extra options
-    local name=$1 suffix=$2; shift 2
-    $bench --sweep "$name" --repeats 5 --threads 2 --embree none --quiet "$@" \
-        --json $out/sweep_$suffix.json --markdown $out/sweep_$suffix.md --csv $out/sweep_$suffix.csv
-    $python bench/plot.py $out/sweep_$suffix.json --out bench/charts/sweeps
+# step NAME COMMAND...: runs it with its standard output in $logs/NAME.out (trident-bench's tables
+# are in its --markdown file too), prints and records how long it took (the page lists it).
+logs=$(mktemp -d)
+trap 'rm -rf "$logs"' EXIT
+step() {
+    local name=$1 start=$SECONDS
+    shift
+    echo "== $name: $*" >&2
+    "$@" > "$logs/$name.out"
+    local seconds=$((SECONDS - start))
+    echo "== $name: $seconds s" >&2
+    printf '%s\t%s\t%s\n' "$name" "$seconds" "$*" >> "$logs/steps.tsv"
 }
-sweep octree-depth octree-depth_small --only teapot,asteroid --width 320 --height 180
-sweep octree-depth octree-depth_large --only hall,city --width 96 --height 54
-for name in bvh-buckets bvh-cost kd-cost kd-empty-bonus; do
-    sweep $name $name --width 640 --height 360
-done
-# Perfect splits on the study's scenes, where large triangles straddle many cells (Room).
-sweep kd-perfect-splits kd-perfect-splits --scenes $scenes --width 960 --height 540
-# The KD-tree's depth limit (pbrt's round(8 + 1.3 log2 N)) on the study's scenes, one thread:
-# whether the limit stops the trees of the million-triangle scans early.
-$bench --sweep kd-depth --scenes $scenes --simd scalar,simd16 --repeats 7 --threads 1 --embree none --quiet \
-    --width 960 --height 540 --json $out/sweep_kd-depth.json --markdown $out/sweep_kd-depth.md \
-    --csv $out/sweep_kd-depth.csv
-$python bench/plot.py $out/sweep_kd-depth.json --out bench/charts/sweeps
 
-# Charts of the main runs last (each run of plot.py rewrites the charts its input has).
-$python bench/plot.py $out/variants.json --out bench/charts/variants
-$python bench/plot.py $out/study.json --out bench/charts
+# The binaries measured are built from this tree (Release, as run.sh builds them).
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release > /dev/null
+cmake --build build -j2 --target trident-bench trident > /dev/null
+commit=$(git rev-parse --short HEAD)
+dirty=$(git status --porcelain --untracked-files=no -- . ':!bench/results' ':!bench/charts' ':!bench/RESULTS.md' |
+    head -c 1 | wc -c)
+date=$(date -u +%Y-%m-%dT%H:%M:%SZ)
+
+# The run set replaces the last one whole: no file of an older run stays beside it.
+rm -rf "$out" "$charts"
+mkdir -p "$out" "$charts"
+step primary $bench --scenes $scenes "${only[@]}" --rays primary --simd scalar,simd8,simd16 --threads 1,2 \
+    --embree 1,8,16 --paired scalar,bvh,embree "${primary_size[@]}" "${repeats[@]}" --quiet \
+    --json $out/primary.json --markdown $out/primary.md --csv $out/primary.csv
+step ray_kinds $bench --scenes $scenes "${only[@]}" --rays primary,shadow,diffuse --simd scalar,simd8,simd16 \
+    --threads 1,2 --embree 1,8,16 --paired bvh,embree "${secondary_size[@]}" "${repeats[@]}" --quiet \
+    --json $out/ray_kinds.json --markdown $out/ray_kinds.md --csv $out/ray_kinds.csv
+# Charts: the study's Figures 17 and 18 and the rest for primary rays, and the fastest traversal
+# per structure for each ray kind.
+step charts_primary $python bench/plot.py $out/primary.json --out $charts
+step charts_shadow $python bench/plot.py $out/ray_kinds.json --rays shadow --out $charts/shadow
+step charts_diffuse $python bench/plot.py $out/ray_kinds.json --rays diffuse --out $charts/diffuse
+
+# The manifest the page is generated from: the commit, the steps and their times, the files.
+$python - "$logs" "$out/run.json" "$commit" "$dirty" "$date" "$placeholder" <<'EOF'
+import json, os, sys
+logs, manifest, commit, dirty, date, placeholder = sys.argv[1:]
+steps = []
+for line in open(os.path.join(logs, "steps.tsv")):
+    name, seconds, command = line.rstrip("\n").split("\t")
+    steps.append({"name": name, "seconds": int(seconds), "command": command})
+titles = {"build_time.png": "build time (Figure 17)", "mrays.png": "Mrays/s (Figure 18)",
+          "fastest.png": "fastest traversal per structure", "scalar_vs_simd.png": "scalar against SIMD",
+          "thread_scaling.png": "thread scaling", "speed_vs_error.png": "speed against error"}
+charts = []
+chart_paths = [line.strip() for step in steps if step["name"].startswith("charts_")
+               for line in open(os.path.join(logs, step["name"] + ".out")) if line.strip()]
+for chart in chart_paths:
+    path = os.path.relpath(chart, "bench")
+    kind = os.path.basename(os.path.dirname(path))
+    title = titles.get(os.path.basename(path), os.path.basename(path))
+    charts.append({"title": title + ("" if kind == "charts" else ", " + kind), "path": path})
+run = {"commit": commit, "dirty": dirty != "0", "date": date, "steps": steps,
+       "runs": [{"name": "primary", "json": "primary.json"}, {"name": "ray_kinds", "json": "ray_kinds.json"}],
+       "charts": charts}
+if placeholder:
+    run["placeholder"] = placeholder
+with open(manifest, "w") as f:
+    json.dump(run, f, indent=2)
+    f.write("\n")
+EOF
+$python bench/summarize.py page --out bench/RESULTS.md
+$python bench/summarize.py check bench/RESULTS.md
+echo "reproduce.sh: bench/RESULTS.md written from $out/run.json ($SECONDS s in all)" >&2

@@ -7,13 +7,19 @@
     summarize.py stress STRESS.json [STRESS.json ...]
     summarize.py ray-kinds RESULTS.json
     summarize.py paired RESULTS.json
+    summarize.py page [--run bench/results/run.json] [--out bench/RESULTS.md]
+    summarize.py check bench/RESULTS.md [--run bench/results/run.json]
 
-Every figure printed is read from the JSON given; the study's own Table 2 is read from
+`page` prints the whole of bench/RESULTS.md from one run set of bench/reproduce.sh
+(bench/results_page.py); `check` makes it again and exits 1, with the difference, when the file
+given differs. Every figure printed is read from the JSON given; the study's own Table 2 is read from
 BENCHMARK.md, so the side-by-side table quotes it rather than copying it. Only the standard library
 is used, so any python3 runs it.
 """
 import argparse
+import difflib
 import json
+import os
 import re
 import statistics
 import sys
@@ -21,6 +27,8 @@ import sys
 STRUCTURES = ("bvh", "kdtree", "octree")
 NAMES = {"bvh": "BVH", "kdtree": "KD", "octree": "Octree", "embree": "Embree"}
 WIDTHS = ("scalar", "simd4", "simd8", "simd16")
+# Names for charts and for RESULTS.md's prose (the summary tables keep the short NAMES).
+LABELS = {"bvh": "BVH", "kdtree": "KD-tree", "octree": "Octree", "brute": "brute force", "embree": "Embree"}
 EMBREE_CALL = {"scalar": "rtcIntersect1", "simd4": "rtcIntersect4", "simd8": "rtcIntersect8",
                "simd16": "rtcIntersect16"}
 
@@ -36,6 +44,11 @@ def fmt(x, digits=3):
         return "{:.0f}".format(x)
     decimals = max(0, digits - 1 - int(f"{magnitude:e}".split("e")[1]))
     return "{:.{}f}".format(x, decimals)
+
+
+def ordered(values, order):
+    """The distinct values, those in `order` first and in its order, then the others sorted."""
+    return sorted(set(values), key=lambda v: (order.index(v) if v in order else len(order), v))
 
 
 def table(header, rows):
@@ -80,7 +93,8 @@ def ratio(a, b):
 def read_study_table(path):
     """The reference study's Table 2 from BENCHMARK.md: {scene (lower case): {column: value}}."""
     try:
-        text = open(path).read()
+        with open(path) as f:
+            text = f.read()
     except OSError:
         return {}
     section = text.split("## The reference study's results", 1)
@@ -410,7 +424,57 @@ def load(path):
         sys.exit("summarize.py: {}: {}".format(path, e))
 
 
+BENCH_DIR = os.path.dirname(os.path.abspath(__file__))
+SHARED_DIR = os.path.join(BENCH_DIR, "..", "..", "shared")
+
+
+def page_main(argv):
+    """summarize.py page | check: RESULTS.md from the run set's manifest, or checked against it."""
+    import results_page
+
+    parser = argparse.ArgumentParser(prog="summarize.py " + argv[0])
+    if argv[0] == "check":
+        parser.add_argument("results_md", help="the page to check, e.g. bench/RESULTS.md")
+    parser.add_argument("--run", default=os.path.join(BENCH_DIR, "results", "run.json"),
+                        help="the run set's manifest, written by bench/reproduce.sh")
+    parser.add_argument("--study-table", default=os.path.join(SHARED_DIR, "BENCHMARK.md"))
+    parser.add_argument("--scenes", default=os.path.join(SHARED_DIR, "scenes", "scenes.json"),
+                        help="the scenes' manifest, for their kinds (simple, complex)")
+    parser.add_argument("--targets", default=os.path.join(BENCH_DIR, "targets.json"))
+    if argv[0] == "page":
+        parser.add_argument("--out", help="write the page here instead of printing it")
+    args = parser.parse_args(argv[1:])
+    try:
+        text = results_page.page(args.run, args.study_table, args.scenes, args.targets)
+    except results_page.PageError as e:
+        sys.exit("summarize.py: {}".format(e))
+    if argv[0] == "page":
+        if args.out:
+            with open(args.out, "w") as f:
+                f.write(text)
+        else:
+            sys.stdout.write(text)
+        return 0
+    try:
+        with open(args.results_md) as f:
+            current = f.read()
+    except OSError as e:
+        sys.exit("summarize.py: {}: {}".format(args.results_md, e.strerror))
+    if current == text:
+        print("{}: generated from {}, unchanged".format(args.results_md, args.run))
+        return 0
+    diff = list(difflib.unified_diff(current.splitlines(), text.splitlines(), args.results_md, "generated",
+                                     lineterm=""))
+    sys.stderr.write("\n".join(diff[:60]) + ("\n..." if len(diff) > 60 else "") + "\n")
+    sys.stderr.write("summarize.py: {} differs from the page {} gives ({} lines of difference); "
+                     "run: /usr/bin/python3 bench/summarize.py page --out {}\n".format(
+                         args.results_md, args.run, len(diff), args.results_md))
+    return 1
+
+
 def main():
+    if len(sys.argv) > 1 and sys.argv[1] in ("page", "check"):
+        sys.exit(page_main(sys.argv[1:]))
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("kind", choices=("study", "variants", "sweep", "stress", "ray-kinds", "paired"))
     parser.add_argument("json", nargs="+")

@@ -98,7 +98,7 @@ xsimd::batch_bool<float, Arch> trace_lanes_singly(const RayPacket<Arch>& rays, s
 /// return no lanes (their answer is `hits`). Counters count per packet: a visit_node per node box
 /// the packet tests, a test_triangle per triangle it tests (and per ray in single-ray subtrees).
 /// Flattened like the other structures' walks: without it, 8-lane packets took up to 1.37 times
-/// as long (bench/RESULTS.md; 16-lane packets and single rays did not change).
+/// as long (bench/experiments/packets.md; 16-lane packets and single rays did not change).
 template <bool AnyHit, TriangleTest Test, SlabTest Slabs, int SingleRayLanes, class Arch, class TraceSubtree,
           class Counters>
 TRIDENT_FLATTEN typename RayPacket<Arch>::Mask traverse_packet(const TreeArrays& tree, const RayPacket<Arch>& rays,
@@ -124,7 +124,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask traverse_packet(const TreeArrays&
     // lane runs parallel to) dropped by the max or min with the lane's interval end. It makes the
     // decisions and entry distances of the robust slab test (the equivalence tests/bvh/test_slab.cpp
     // checks), without its compare and select per plane in the chain each node waits for: 8-lane
-    // packets take 0.90-0.96x the time (bench/RESULTS.md). The fast test is intersect_slabs bit for
+    // packets take 0.90-0.96x the time (bench/experiments/bvh-traversal.md). The fast test is intersect_slabs bit for
     // bit; only x is clipped to [tmin, limit] there, as on y and z the serial form's max with -inf
     // and min with +inf return the other operand, NaN included.
     auto ordered_slab = [&](int axis, float lo, float hi, Float& entry, Float& exit) {

@@ -10,7 +10,7 @@
 //           is an empty leaf, bit 1 the child above: the traversals skip such a child without
 //           fetching it. Empty leaves are most of the leaves a ray visits on the study's scenes
 //           (the empty-space bonus makes them to cut empty space off), 7.5 of 9.2 a primary ray
-//           on Room (bench/RESULTS.md).
+//           on Room (bench/experiments/kdtree.md).
 #include <bit>
 #include <cstddef>
 #include <cstdint>

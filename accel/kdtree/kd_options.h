@@ -15,7 +15,7 @@ struct KdTreeOptions {
     int max_depth = -1;
     /// Levels added to pbrt's formula (negative: fewer); 0, the study's, by default. The formula
     /// ends every tree on the study's scenes, so the bench's kd-depth sweep moves it to measure
-    /// what deeper or shallower trees give (bench/RESULTS.md).
+    /// what deeper or shallower trees give (bench/experiments/kdtree.md).
     int depth_offset = 0;
     /// Consecutive splits costing more than a leaf before the node becomes one anyway (pbrt).
     int max_bad_refines = 3;

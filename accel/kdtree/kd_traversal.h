@@ -89,7 +89,7 @@ T widened_down(T t) {
 ///
 /// Flattened (every call in it inlined): since it learned to skip empty leaves, gcc otherwise
 /// leaves the triangle test out of line here, a call per triangle that cost up to 20%
-/// (bench/RESULTS.md).
+/// (bench/experiments/packets.md).
 template <KdQuery Query, TriangleTest Test, SlabTest Slabs, class Counters>
 TRIDENT_FLATTEN bool walk_kdtree(const KdTreeView& tree, const Ray& ray, const SlabRay& slab,
                                  const TriangleIntersector<Test>& intersector, std::uint32_t start, float t_min,

@@ -33,7 +33,7 @@ enum class OctreeQuery { closest_hit, any_hit };
 /// hit, and so does every cell after it. Packets walk subtrees of few lanes with it.
 ///
 /// Flattened (every call in it inlined): gcc otherwise calls the triangle test out of line, once
-/// per triangle, and the walk took up to 1.56 times as long (bench/RESULTS.md).
+/// per triangle, and the walk took up to 1.56 times as long (bench/experiments/packets.md).
 template <OctreeQuery Query, TriangleTest Test, SlabTest Slabs, class Counters>
 TRIDENT_FLATTEN bool walk_octree_subtree(const OctreeView& tree, const OctreeWalkRay& walk,
                                          const TriangleIntersector<Test>& intersector, float tmin,

@@ -131,7 +131,7 @@ void add_common_options(CLI::App& command, CommonOptions& common, bool with_acce
         command.add_flag("--kd-perfect-splits", common.accel_options.kdtree.perfect_splits,
                          "KD-tree: clip triangles straddling a split plane to each child's cell (Havran)");
         // pbrt's depth limit ends every tree on the study's scenes; selectable to measure what
-        // other limits give (bench/RESULTS.md, the kd-depth sweep).
+        // other limits give (bench/experiments/kdtree.md, the kd-depth sweep).
         command
             .add_option("--kd-depth-offset", common.accel_options.kdtree.depth_offset,
                         "KD-tree: levels added to the depth limit round(8 + 1.3 log2 N) (default 0, the study's)")

@@ -6,7 +6,7 @@
 // is some 30,000 page faults, each a trip into the kernel, which took 11-14% of a one-thread
 // build's samples; Linux's default transparent huge page mode ("madvise") grants 2 MiB pages only
 // to memory that asks for them. Asking made the BVH's one-thread builds of the million-triangle
-// scenes 2-8% faster (medians, bench/RESULTS.md); traversal speed did not change. Only arrays
+// scenes 2-8% faster (medians, bench/experiments/bvh-build.md); traversal speed did not change. Only arrays
 // that will be filled should ask: the KD-tree's scratch blocks, sized for what may follow, built
 // slower and less evenly with huge pages, as the kernel clears a whole 2 MiB page at the first
 // touch. Small arrays, and systems without madvise, get ordinary memory.

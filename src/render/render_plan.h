@@ -70,7 +70,7 @@ PointLight default_light(const Aabb& box);
 /// Cosine-distributed rays are incoherent. Whenever packets are asked for (any width but scalar),
 /// this is, per structure, the octant-packet width measured faster than single rays on every one
 /// of the study's scenes (`trident-bench --rays diffuse --vs-single`, which times each packet run
-/// and a single-ray run of the same rays in pairs; bench/RESULTS.md, "Diffuse rays: which
+/// and a single-ray run of the same rays in pairs; bench/experiments/shadow-diffuse.md, "Diffuse rays: which
 /// traversal"): the BVH takes 16 lanes where they run (1.20-3.32x in three runs at 9fd447c, ahead
 /// of 8 lanes on every scene; at 44f3868, before its packet walk got faster, 16 lanes fell to
 /// 1.01x on Gallery and 8 were chosen), else 8 (1.10-2.42x; 4 lanes lost on Gallery at

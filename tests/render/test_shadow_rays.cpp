@@ -113,7 +113,7 @@ TEST_CASE("shadow rays: a flat lit plane far from the origin has no self-shadowe
 TEST_CASE("shadow rays: a large floor seen from afar has no self-shadowed pixel (no acne)") {
     // Room's floor (../shared/scenes), reduced: y near zero where the other two coordinates are in
     // the thousands, quads 1,600 units wide, primary rays about 2,500 units long. Two ways to fail,
-    // each seen on Room (bench/RESULTS.md): a hit point computed as origin + t * dir is off the
+    // each seen on Room (bench/experiments/shadow-diffuse.md): a hit point computed as origin + t * dir is off the
     // plane by up to t * 2^-24, more than the offset of 256 ulps of its y, and can start the
     // shadow ray below the floor; and from a point that close to a plane, the triangle test's
     // rounding in t reaches across it, so the coplanar neighbours come out hit at t near 0 by any

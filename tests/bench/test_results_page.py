@@ -1,0 +1,275 @@
+#!/usr/bin/python3
+"""bench/RESULTS.md's generator (bench/results_page.py, `summarize.py page` and `check`).
+
+A tiny synthetic run set whose answers are known by hand: the fastest structure per scene and
+ray kind with its margins, paired figures preferred over ratios of medians, a structure the
+generator was not told of (a wide BVH) given its own columns, the targets measured, runs of two
+machines refused, `check` failing on a page that differs from its JSON, and plot.py's charts of
+one ray kind. Then the committed page against the committed JSON (skipped, with a message, without
+../shared).
+"""
+import copy
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+BENCH = os.path.join(REPO, "bench")
+SHARED = os.path.join(REPO, "..", "shared")
+sys.path.insert(0, BENCH)
+
+import results_page  # noqa: E402
+
+MACHINE = {"cpu": "Test CPU", "physical_cores": 2, "hardware_threads": 2, "compiler": "gcc 12.2.0",
+           "embree_version": "3.13.5"}
+STUDY = """# Benchmark conventions
+
+## The reference study's results (Table 2)
+
+| scene | triangles | build BVH | build KD | build Octree | render BVH | render KD | render Octree | Mrays/s BVH | Mrays/s KD | Mrays/s Octree |
+| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |
+| Simple | 1k | 0.04 | 0.32 | 0.06 | 0.41 | 0.67 | 0.74 | 5.01 | 3.12 | 2.80 |
+| Complex | 2k | 2.39 | 12.16 | 3.95 | 4.75 | 2.03 | 13.80 | 0.44 | 1.02 | 0.15 |
+"""
+SCENES = [{"name": "simple", "kind": "simple"}, {"name": "complex", "kind": "complex"}]
+
+
+def row(scene, structure, traversal, threads, mrays, rays="primary", **extra):
+    r = {"scene": scene, "structure": structure, "traversal": traversal, "threads": threads, "rays": rays,
+         "mrays_per_s": mrays, "render_ms": 1000.0 / mrays, "build_ms": 10.0 * threads, "bytes_per_triangle": 64.0,
+         "triangles": 1000 if scene == "simple" else 2000, "hit_miss_share": 0.0, "triangle_share": 0.0,
+         "max_relative_t_difference": 0.0, "triangle_test": None if structure == "embree" else "watertight",
+         "slabs": None if structure == "embree" else "robust", "sweep_value": None, "ratio_to_embree": None,
+         "paired_over_embree": None, "paired_over_bvh": None, "paired_over_scalar": None,
+         "nodes_per_ray": 10.0, "triangles_per_ray": 2.0}
+    r.update(extra)
+    return r
+
+
+def report(rows, width=64, height=36):
+    return {"machine": dict(MACHINE), "threads": [1, 2], "width": width, "height": height, "repeats": 5,
+            "warmup_runs": 1, "reference": "embree rtcIntersect1", "rows": rows}
+
+
+def primary_rows():
+    """Simple: the BVH fastest (simd8, 40 Mrays/s), the KD-tree 32 (1.25x slower), the Octree 20 (2x).
+    Complex: the KD-tree fastest (simd8, 30), the BVH 24 (1.25x), the Octree 10 (3x). A bvh8 on the
+    simple scene only, slower than the BVH."""
+    speeds = {("simple", "bvh"): 40.0, ("simple", "kdtree"): 32.0, ("simple", "octree"): 20.0,
+              ("complex", "bvh"): 24.0, ("complex", "kdtree"): 30.0, ("complex", "octree"): 10.0}
+    rows = []
+    for (scene, structure), fast in speeds.items():
+        for t in (1, 2):
+            scale = t / 2.0
+            rows.append(row(scene, structure, "scalar", t, fast * scale / 4, paired_over_embree=0.5,
+                            paired_over_bvh=None if structure == "bvh" else speeds[(scene, structure)] /
+                            speeds[(scene, "bvh")]))
+            # Packets: paired with Embree at one thread only, so the two-thread cell is a ratio of medians.
+            rows.append(row(scene, structure, "simd8", t, fast * scale, paired_over_scalar=4.0 if t == 1 else 2.5,
+                            paired_over_embree=0.8 if t == 1 else None, ratio_to_embree=0.75))
+        rows.append(row(scene, "embree", "rtcIntersect1", 2, 30.0))
+        rows.append(row(scene, "embree", "rtcIntersect8", 2, 50.0))
+    rows.append(row("simple", "bvh", "simd8", 2, 35.0, bvh_width=8, paired_over_embree=0.7))
+    return rows
+
+
+def ray_kind_rows():
+    rows = []
+    for scene in ("simple", "complex"):
+        for t in (1, 2):
+            rows.append(row(scene, "bvh", "scalar", t, 10.0))
+            rows.append(row(scene, "kdtree", "scalar", t, 8.0))
+            # Shadow rays: the Octree is fastest here, at 1.5x its primary rays on the complex scene only.
+            rows.append(row(scene, "bvh", "scalar", t, 5.0, rays="shadow", ratio_to_embree=0.9))
+            rows.append(row(scene, "octree", "scalar", t, 6.0, rays="shadow"))
+            rows.append(row(scene, "octree", "scalar", t, 5.0 if scene == "simple" else 2.0))
+    return rows
+
+
+TARGETS = [
+    {"issue": 6, "target": "8 lanes at least 3x scalar", "measure": "speed_ratio", "to": {"traversal": "scalar"},
+     "paired": "paired_over_scalar", "at_least": 3.0, "rows": {"traversal": "simd8", "structure": "bvh"},
+     "reason": "Why, in words.", "trials": "experiments/packets.md"},
+    {"issue": 9, "target": "shadow at least 1.5x primary", "run": "ray_kinds", "measure": "speed_ratio",
+     "to": {"rays": "primary"}, "at_least": 1.5, "rows": {"rays": "shadow", "structure": "octree", "threads": 2},
+     "reason": "Shadow reason.", "trials": "experiments/shadow-diffuse.md"},
+    {"issue": 4, "target": "KD build under 1.5 s", "measure": "value", "column": "build_ms", "unit": "ms",
+     "at_most": 1500, "rows": {"structure": "kdtree", "traversal": "scalar", "threads": 1},
+     "reason": "-", "trials": "experiments/kdtree.md"},
+    {"issue": 3, "target": "scaling", "measure": "value", "column": "speedup_over_one_thread", "at_least": 1.9,
+     "rows": {"structure": "bvh"}, "reason": "-", "trials": "experiments/bvh-build.md"},
+]
+
+
+class RunSetFixture(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.TemporaryDirectory()
+        self.addCleanup(self.dir.cleanup)
+        self.write("primary.json", report(primary_rows()))
+        self.write("ray_kinds.json", report(ray_kind_rows(), 32, 18))
+        self.write("BENCHMARK.md", STUDY)
+        self.write("scenes.json", SCENES)
+        self.write("targets.json", TARGETS)
+        self.manifest = {"commit": "abc1234", "dirty": False, "date": "2026-12-02T07:00:00Z",
+                         "steps": [{"name": "primary", "seconds": 90, "command": "build/trident-bench ..."}],
+                         "runs": [{"name": "primary", "json": "primary.json"},
+                                  {"name": "ray_kinds", "json": "ray_kinds.json"}]}
+        self.write("run.json", self.manifest)
+
+    def path(self, name):
+        return os.path.join(self.dir.name, name)
+
+    def write(self, name, content):
+        with open(self.path(name), "w") as f:
+            f.write(content if isinstance(content, str) else json.dumps(content))
+
+    def page(self):
+        return results_page.page(self.path("run.json"), self.path("BENCHMARK.md"), self.path("scenes.json"),
+                                 self.path("targets.json"))
+
+    def section(self, text, heading):
+        """From `heading` to the next heading of its level or above."""
+        start = text.index(heading)
+        level = len(heading) - len(heading.lstrip("#"))
+        ends = [text.find("\n" + "#" * n + " ", start + len(heading)) for n in range(2, level + 1)]
+        ends = [e for e in ends if e >= 0]
+        return text[start:min(ends)] if ends else text[start:]
+
+    def table_row(self, text, first_cell):
+        return next(line for line in text.splitlines() if line.startswith("| {} |".format(first_cell)))
+
+
+class TheStudysQuestion(RunSetFixture):
+    def test_the_fastest_structure_per_scene_with_its_margins(self):
+        question = self.section(self.page(), "### Primary rays, 2 threads")
+        simple = self.table_row(question, "simple").split(" | ")
+        self.assertIn("**BVH simd8**", simple)
+        self.assertIn("40.0", simple)
+        self.assertIn("1.25x (simd8)", simple)  # over the KD-tree
+        self.assertIn("2.00x (simd8)", simple)  # over the Octree
+        self.assertIn("1.14x (simd8)", simple)  # over the wide BVH's 35
+        complex_ = self.table_row(question, "complex").split(" | ")
+        self.assertIn("**KD-tree simd8**", complex_)
+        self.assertIn("3.00x (simd8)", complex_)
+        self.assertIn("Our fastest structure is the study's on 2 of 2 scenes; the Octree is our slowest on 2 of 2. "
+                      "The BVH is our fastest on 1 of the 1 simple scenes. "
+                      "The KD-tree is our fastest on 1 of the 1 complex scenes.", question)
+
+    def test_every_ray_kind_gets_its_own_table(self):
+        shadow = self.section(self.page(), "### Shadow rays, 2 threads")
+        self.assertIn("**Octree scalar**", self.table_row(shadow, "simple"))
+        self.assertIn("1.20x (scalar)", self.table_row(shadow, "simple"))
+        self.assertIn("Our fastest structure is the study's on 0 of 2 scenes", shadow)
+
+    def test_a_structure_it_was_not_told_of_gets_columns(self):
+        text = self.page()
+        self.assertIn("over BVH-8", text)
+        self.assertIn("BVH-8 simd8", self.section(text, "## Ours against Embree"))
+
+
+class AgainstEmbree(RunSetFixture):
+    def test_paired_figures_are_plain_and_ratios_of_medians_are_marked(self):
+        embree = self.section(self.page(), "### Primary rays, from")
+        header = self.table_row(embree, "scene").split(" | ")
+        cells = self.table_row(embree, "simple").split(" | ")
+        self.assertEqual(cells[header.index("BVH simd8")], "0.80 / 0.75*")
+        self.assertEqual(cells[header.index("BVH scalar")], "0.50 / 0.50")
+
+    def test_shadow_rays_against_embree_when_the_run_has_them(self):
+        self.assertIn("### Shadow rays, from", self.page())
+
+
+class Targets(RunSetFixture):
+    def test_targets_measured_from_the_rows(self):
+        targets = self.section(self.page(), "## Targets not met")
+        packets = self.table_row(targets, "6")
+        self.assertIn("2.50–4.00 (paired)", packets)
+        self.assertIn("| 2 of 4 |", packets)
+        shadow = self.table_row(targets, "9")
+        self.assertIn("1.20–3.00 (unpaired)", shadow)  # 6 / 5 on the simple scene, 6 / 2 on the complex one
+        self.assertIn("| 1 of 2 | simple |", shadow)
+        self.assertIn("Met on this run set: KD build under 1.5 s (issue 4: 10.0 ms)", targets)
+        self.assertIn("Not measured by this run set (see the trials): scaling (issue 3", targets)
+
+    def test_a_target_without_a_bound_is_refused(self):
+        broken = copy.deepcopy(TARGETS)
+        del broken[0]["at_least"]
+        self.write("targets.json", broken)
+        with self.assertRaises(results_page.PageError):
+            self.page()
+
+
+class RunSets(RunSetFixture):
+    def test_runs_of_two_machines_are_refused(self):
+        other = report(ray_kind_rows())
+        other["machine"]["cpu"] = "Another CPU"
+        self.write("ray_kinds.json", other)
+        with self.assertRaisesRegex(results_page.PageError, "2 machines"):
+            self.page()
+
+    def test_a_missing_json_names_the_file(self):
+        os.remove(self.path("ray_kinds.json"))
+        with self.assertRaisesRegex(results_page.PageError, "ray_kinds.json"):
+            self.page()
+
+    def test_the_page_names_the_commit_and_the_placeholder(self):
+        self.manifest.update(dirty=True, placeholder="A quick run.")
+        self.write("run.json", self.manifest)
+        text = self.page()
+        self.assertIn("commit `abc1234` with uncommitted changes", text)
+        self.assertIn("> **Placeholder.** A quick run.", text)
+
+
+class Check(RunSetFixture):
+    def check(self, page_path):
+        return subprocess.run([sys.executable, os.path.join(BENCH, "summarize.py"), "check", page_path,
+                               "--run", self.path("run.json"), "--study-table", self.path("BENCHMARK.md"),
+                               "--scenes", self.path("scenes.json"), "--targets", self.path("targets.json")],
+                              capture_output=True, text=True)
+
+    def test_check_passes_on_the_page_it_makes_and_fails_on_a_figure_changed(self):
+        text = self.page()
+        self.write("RESULTS.md", text)
+        self.assertEqual(self.check(self.path("RESULTS.md")).returncode, 0)
+        self.write("RESULTS.md", text.replace("| 40.0 |", "| 41.0 |", 1))
+        failed = self.check(self.path("RESULTS.md"))
+        self.assertEqual(failed.returncode, 1)
+        self.assertIn("differs", failed.stderr)
+        self.assertIn("41.0", failed.stderr)
+
+
+class Charts(RunSetFixture):
+    def plot(self, *args):
+        return subprocess.run([sys.executable, os.path.join(BENCH, "plot.py"), self.path("ray_kinds.json"),
+                               "--out", self.path("charts")] + list(args), capture_output=True, text=True)
+
+    def test_a_ray_kind_gets_its_fastest_traversal_chart(self):
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            self.skipTest("python3-matplotlib is missing: plot.py not tested")
+        done = self.plot("--rays", "shadow")
+        self.assertEqual(done.returncode, 0, done.stderr)
+        written = sorted(os.path.basename(p) for p in done.stdout.split())
+        self.assertEqual(written, ["fastest.png", "mrays.png"])  # no build time for shadow rays, one traversal
+        with open(self.path("charts/fastest.png"), "rb") as f:
+            self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+        missing = self.plot("--rays", "diffuse")
+        self.assertNotEqual(missing.returncode, 0)
+        self.assertIn("no rows of diffuse rays", missing.stderr)
+
+
+class TheCommittedPage(unittest.TestCase):
+    def test_bench_results_md_is_what_its_json_gives(self):
+        if not os.path.exists(os.path.join(SHARED, "BENCHMARK.md")):
+            self.skipTest("../shared is absent: the page quotes the study's Table 2 from it")
+        done = subprocess.run([sys.executable, os.path.join(BENCH, "summarize.py"), "check",
+                               os.path.join(BENCH, "RESULTS.md")], capture_output=True, text=True)
+        self.assertEqual(done.returncode, 0, done.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
