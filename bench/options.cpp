@@ -170,7 +170,7 @@ ReferenceChoice resolve_reference(const Arguments& args) {
     const auto kind = parse_accel_kind(args.reference);
     if (!kind)
         refuse(
-            fmt::format("--reference {}: expected auto, embree, self, brute, bvh, kdtree or octree", args.reference));
+            fmt::format("--reference {}: expected auto, embree, self, brute, bvh, bvh2, kdtree or octree", args.reference));
     choice.source = ReferenceChoice::Source::structure;
     choice.structure = *kind;
     return choice;
@@ -273,7 +273,7 @@ void add_options(CLI::App& app, Arguments& args) {
     app.add_option("--width", args.width, "image width in pixels (default 1920)");
     app.add_option("--height", args.height, "image height in pixels (default 1080)");
     app.add_option("--repeats", args.repeats, "timed runs after one warm-up; the median is reported (default 5)");
-    app.add_option("--reference", args.reference, "error reference: auto, embree, self, brute, bvh, kdtree, octree");
+    app.add_option("--reference", args.reference, "error reference: auto, embree, self, brute, bvh, bvh2, kdtree, octree");
     app.add_option("--reference-hits", args.reference_hits,
                    "another tracer's hit buffer, or a folder of SCENE.hits files");
     app.add_option("--dump-hits", args.dump_hits,

@@ -61,10 +61,12 @@ bool has_structure(const BenchReport& report, const std::string& structure) {
                        [&](const BenchRow& r) { return r.structure == structure; });
 }
 
-/// The study's three always (a dash where one was left out by --accel), then brute and Embree if
-/// measured.
+/// The study's three always (a dash where one was left out by --accel), the binary BVH beside the
+/// wide one when measured, then brute and Embree if measured.
 std::vector<std::string> table_structures(const BenchReport& report, bool with_embree) {
-    std::vector<std::string> structures = {"bvh", "kdtree", "octree"};
+    std::vector<std::string> structures = {"bvh"};
+    if (has_structure(report, "bvh2")) structures.push_back("bvh2");
+    structures.insert(structures.end(), {"kdtree", "octree"});
     if (has_structure(report, "brute")) structures.push_back("brute");
     if (with_embree && has_structure(report, kEmbreeStructure)) structures.push_back(kEmbreeStructure);
     return structures;

@@ -20,6 +20,84 @@
 
 namespace trident {
 
+namespace bvh {
+
+/// The lanes of `lanes` that enter child k of `node` before prune_limit(their closest hit), with
+/// their entry distances (+inf elsewhere): the single ray's box test, lane by lane.
+template <SlabTest Slabs, std::size_t Width, class Arch>
+std::pair<typename RayPacket<Arch>::Mask, typename RayPacket<Arch>::Float> lanes_entering(
+    const WideNode<Width>& node, std::size_t k, const RayPacket<Arch>& rays, const HitPacket<Arch>& hits,
+    const typename RayPacket<Arch>::Mask& lanes) {
+    using Float = typename RayPacket<Arch>::Float;
+    Float entry = rays.tmin, exit = prune_limit(hits.t);
+    for (int axis = 0; axis < 3; ++axis) {
+        const Float lo(node.bounds[lower_row(axis)][k]), hi(node.bounds[upper_row(axis)][k]);
+        detail::clip_to_ordered_slab<Slabs>(xsimd::select(rays.dir_negative[axis], hi, lo),
+                                            xsimd::select(rays.dir_negative[axis], lo, hi), rays.slab.origin[axis],
+                                            rays.slab.inv_dir[axis], entry, exit);
+    }
+    const auto enters = lanes & (entry <= exit);
+    return {enters, xsimd::select(enters, entry, Float(kInfinity))};
+}
+
+/// Triangle k of `block` against the lanes of `lanes`, recording each lane's hit by the single
+/// ray's rules: the triangle limit just past the closest t, then nearer wins and at equal t the
+/// lower id (closest hit), or the first hit ends the lane (any hit: its t becomes -inf, and it
+/// joins `blocked`). Returns the lanes still live (any hit drops those that hit).
+template <bool AnyHit, class Intersector, std::size_t BlockSize, class Arch>
+typename RayPacket<Arch>::Mask test_triangle_lanes(const Intersector& intersector, const TriangleBlock<BlockSize>& block,
+                                                   std::size_t k, const RayPacket<Arch>& rays, HitPacket<Arch>& hits,
+                                                   typename RayPacket<Arch>::Mask lanes,
+                                                   typename RayPacket<Arch>::Mask& blocked) {
+    using Float = typename RayPacket<Arch>::Float;
+    using Mask = typename RayPacket<Arch>::Mask;
+    using UInt = xsimd::batch<std::uint32_t, Arch>;
+    // Each lane's limit: its tmax while nothing is hit, else just past the closest t (the bits of a
+    // non-negative finite float, plus one: triangle_limit lane by lane).
+    const Float next_up = xsimd::bitwise_cast<Float>(xsimd::bitwise_cast<UInt>(hits.t) + UInt(1u));
+    const Float limits = xsimd::select(hits.t < rays.tmax, next_up, hits.t);
+    const Vec3T<Float> a(Float(block.a[0][k]), Float(block.a[1][k]), Float(block.a[2][k]));
+    const Vec3T<Float> b(Float(block.b[0][k]), Float(block.b[1][k]), Float(block.b[2][k]));
+    const Vec3T<Float> c(Float(block.c[0][k]), Float(block.c[1][k]), Float(block.c[2][k]));
+    TriangleHitT<Float> h{Float(0.0f), Float(0.0f), Float(0.0f)};  // read where hit only
+    const Mask hit = lanes & intersector.intersect(a, b, c, limits, h);
+    if (!xsimd::any(hit)) return lanes;
+    if constexpr (AnyHit) {
+        blocked = blocked | hit;
+        hits.record(hit, block.id[k], h);
+        hits.t = xsimd::select(hit, Float(-kInfinity), hits.t);
+        return lanes & !hit;
+    } else {
+        // Nearer wins; at the same t the lower id (lane by lane: rare).
+        Mask wins = hit & (h.t < hits.t);
+        const Mask tied = hit & (h.t == hits.t);
+        if (xsimd::any(tied)) {
+            std::array<std::uint32_t, HitPacket<Arch>::width> ids;
+            hits.triangle.store_unaligned(ids.data());
+            std::array<bool, HitPacket<Arch>::width> lower{};
+            for (std::uint32_t bits = simd::mask_bits(tied); bits != 0; bits &= bits - 1)
+                lower[std::countr_zero(bits)] = block.id[k] < ids[std::countr_zero(bits)];
+            wins = wins | (tied & Mask::load_unaligned(lower.data()));
+        }
+        hits.record(wins, block.id[k], h);
+        return lanes;
+    }
+}
+
+/// The children to visit, nearest (smallest key) last: indices into `keys`, farthest first.
+template <std::size_t Width>
+std::array<std::uint8_t, Width> farthest_first(const std::array<float, Width>& keys, std::size_t count) {
+    std::array<std::uint8_t, Width> order{};
+    for (std::size_t i = 0; i < count; ++i) {
+        std::size_t j = i;
+        for (; j > 0 && keys[order[j - 1]] < keys[i]; --j) order[j] = order[j - 1];
+        order[j] = std::uint8_t(i);
+    }
+    return order;
+}
+
+}  // namespace bvh
+
 template <std::size_t Width, std::size_t BlockSize>
 template <TriangleTest Test, SlabTest Slabs, class Arch, class Counters, int SingleRayLanes>
 void WideBvh<Width, BlockSize>::intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits,
@@ -72,8 +150,6 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
                                                                                           Counters& counters) const {
     using Float = typename RayPacket<Arch>::Float;
     using Mask = typename RayPacket<Arch>::Mask;
-    using L = Lanes<Float>;
-    using UInt = xsimd::batch<std::uint32_t, Arch>;
     static_assert(SingleRayLanes >= 0 && std::size_t(SingleRayLanes) <= RayPacket<Arch>::width);
 
     const Mask live = rays.active & (rays.tmin <= rays.tmax);
@@ -93,14 +169,6 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
 
     // Lanes that may still find a hit in a node entered at t_entry.
     const auto needing = [&](const Float& t_entry) { return live & !blocked & (t_entry <= bvh::prune_limit(hits.t)); };
-    // The lanes' triangle limits: their tmax while nothing is hit, else just past the closest t
-    // (bvh::triangle_limit, lane by lane: the bits of a non-negative finite float, plus one).
-    const auto triangle_limits = [&] {
-        const Mask has_hit = hits.t < rays.tmax;
-        const Float next_up = xsimd::bitwise_cast<Float>(xsimd::bitwise_cast<UInt>(hits.t) + UInt(1u));
-        return xsimd::select(has_hit, next_up, hits.t);
-    };
-
     struct StackEntry {
         bvh::ChildRef ref;
         Float t_entry;  // +inf in lanes that do not enter
@@ -125,28 +193,15 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
             for (; candidates != 0; candidates &= candidates - 1) {
                 const std::size_t k = std::countr_zero(candidates);
                 if (node.child[k].is_empty()) break;  // the used slots come first
-                Float entry = rays.tmin, exit = bvh::prune_limit(hits.t);
-                for (int axis = 0; axis < 3; ++axis) {
-                    const Float lo(node.bounds[bvh::lower_row(axis)][k]), hi(node.bounds[bvh::upper_row(axis)][k]);
-                    detail::clip_to_ordered_slab<Slabs>(xsimd::select(rays.dir_negative[axis], hi, lo),
-                                                        xsimd::select(rays.dir_negative[axis], lo, hi),
-                                                        rays.slab.origin[axis], rays.slab.inv_dir[axis], entry, exit);
-                }
-                const Mask enters = lanes & (entry <= exit);
+                const auto [enters, t] = bvh::lanes_entering<Slabs>(node, k, rays, hits, lanes);
                 if (!xsimd::any(enters)) continue;
-                const Float t = xsimd::select(enters, entry, inf);
                 entered[entered_count] = {node.child[k], t};
                 // The order key: the frustum's bound where there is one (free), else the nearest lane.
                 nearest[entered_count++] = group ? entry_lo[k] : simd::horizontal_min(t);
             }
             if (entered_count != 0) {
                 // The nearest child (by its nearest lane) next; the others stacked farthest first.
-                std::size_t order[Width];
-                for (std::size_t i = 0; i < entered_count; ++i) {
-                    std::size_t j = i;
-                    for (; j > 0 && nearest[order[j - 1]] < nearest[i]; --j) order[j] = order[j - 1];
-                    order[j] = i;
-                }
+                const auto order = bvh::farthest_first(nearest, entered_count);
                 for (std::size_t i = 0; i + 1 < entered_count; ++i) stack[stack_size++] = entered[order[i]];
                 assert(stack_size <= kStackSize);
                 current = entered[order[entered_count - 1]].ref;
@@ -159,32 +214,8 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
                 const Block& block = blocks_[b];
                 for (std::uint32_t k = 0; k < BlockSize && remaining != 0; ++k, --remaining) {
                     counters.test_triangle();
-                    const Vec3T<Float> a(Float(block.a[0][k]), Float(block.a[1][k]), Float(block.a[2][k]));
-                    const Vec3T<Float> b_(Float(block.b[0][k]), Float(block.b[1][k]), Float(block.b[2][k]));
-                    const Vec3T<Float> c(Float(block.c[0][k]), Float(block.c[1][k]), Float(block.c[2][k]));
-                    TriangleHitT<Float> h{Float(0.0f), Float(0.0f), Float(0.0f)};  // read where hit only
-                    const Mask hit = lanes & intersector.intersect(a, b_, c, triangle_limits(), h);
-                    if (!xsimd::any(hit)) continue;
-                    if constexpr (AnyHit) {
-                        blocked = blocked | hit;
-                        hits.record(hit, block.id[k], h);
-                        hits.t = xsimd::select(hit, Float(-kInfinity), hits.t);
-                        lanes = lanes & !hit;
-                        if (!xsimd::any(lanes)) break;
-                    } else {
-                        // Nearer wins; at the same t the lower id (lane by lane: rare).
-                        Mask wins = hit & (h.t < hits.t);
-                        const Mask tied = hit & (h.t == hits.t);
-                        if (xsimd::any(tied)) {
-                            std::array<std::uint32_t, L::width> ids;
-                            hits.triangle.store_unaligned(ids.data());
-                            std::array<bool, L::width> lower{};
-                            for (std::uint32_t bits = simd::mask_bits(tied); bits != 0; bits &= bits - 1)
-                                lower[std::countr_zero(bits)] = block.id[k] < ids[std::countr_zero(bits)];
-                            wins = wins | (tied & Mask::load_unaligned(lower.data()));
-                        }
-                        hits.record(wins, block.id[k], h);
-                    }
+                    lanes = bvh::test_triangle_lanes<AnyHit>(intersector, block, k, rays, hits, lanes, blocked);
+                    if (AnyHit && !xsimd::any(lanes)) break;
                 }
                 if (AnyHit && !xsimd::any(lanes)) break;
             }

@@ -56,7 +56,7 @@ double ms_since(std::chrono::steady_clock::time_point start) {
 
 AccelKind accel_kind_or_throw(const std::string& name) {
     const auto kind = parse_accel_kind(name);
-    if (!kind) throw std::invalid_argument(fmt::format("--accel {}: unknown structure (brute, bvh, kdtree, octree)", name));
+    if (!kind) throw std::invalid_argument(fmt::format("--accel {}: unknown structure (brute, bvh, bvh2, kdtree, octree)", name));
     return *kind;
 }
 

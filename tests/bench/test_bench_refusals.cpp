@@ -48,6 +48,7 @@ TEST_CASE("bad options give one line naming the option and a non-zero exit") {
         {"--width 0", "--width/--height 0x1080"},
         {"--height 99999", "--width/--height"},
         {"--accel nothing", "--accel nothing: unknown structure"},
+        {"--bvh-width 2", "--bvh-width"},  // the binary tree is --accel bvh2
         {"--simd 7", "--simd 7: expected scalar, simd4, simd8 or simd16"},
         {"--repeats 0", "--repeats 0"},
         {"--threads 0", "--threads 0"},

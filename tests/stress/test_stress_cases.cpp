@@ -76,11 +76,13 @@ TEST_CASE("the suite catches a test that is not watertight: Möller–Trumbore l
 
 TEST_CASE("the suite catches a slab test that is not robust: the fast one leaks on axis-parallel rays") {
     // Rays along the cube's tessellation planes with +0/-0 components: the fast slab test turns an
-    // origin on a box face into 0 * inf = NaN and drops the box. Every width must show it.
+    // origin on a box face into 0 * inf = NaN and drops the box. Every width must show it. The
+    // binary BVH's fast test is that plain formula; the wide BVH's orders the planes per ray, which
+    // leaves such a NaN to min and max and so does not leak here (wide_box_test.h).
     const StressCase axis_parallel = make_stress_case("axis_parallel", 4000, 7);
     for (SlabTest slabs : {SlabTest::robust, SlabTest::fast}) {
         StressRunOptions options;
-        options.accels = {AccelKind::bvh};
+        options.accels = {AccelKind::bvh2};
         options.slabs = slabs;
         run_stress_case(axis_parallel, options, [&](const StressTally& t) {
             INFO(to_string(slabs), " ", to_string(t.width), " ", to_string(t.query));
