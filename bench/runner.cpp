@@ -356,69 +356,67 @@ private:
         report_.rows.push_back(std::move(row));
     }
 
-    /// Our shadow and diffuse rows for one structure and traversal (default triangle and slab tests):
-    /// shadow rays as packets in primary-packet order, diffuse rays as packets grouped by direction
-    /// octant, each row at its own width (the renderer's pick for diffuse rays is incoherent_traversal()).
-    /// Partners trace into their own buffers (partner_occluded_, partner_secondary_hits_), so the
-    /// row's results stay as the row traced them.
-    void run_secondary_rows(const SceneRun& run, const StructureConfig& config, const AnyAccel& accel,
-                            const Summary& build, Traversal traversal, const std::string& what) {
+    /// Our shadow (AnyHit) or diffuse row for one structure and traversal (default triangle and
+    /// slab tests): shadow rays as packets in primary-packet order, diffuse rays as packets grouped
+    /// by direction octant, each row at its own width (the renderer's pick for diffuse rays is
+    /// incoherent_traversal()). Partners trace into their own buffers (partner_occluded_,
+    /// partner_secondary_hits_), so the row's results stay as the row traced them.
+    template <bool AnyHit>
+    void run_secondary_row(const SceneRun& run, const StructureConfig& config, const AnyAccel& accel,
+                           const Summary& build, Traversal traversal, const std::string& what) {
+        const RayKind kind = AnyHit ? RayKind::shadow : RayKind::diffuse;
+        const std::vector<Ray>& rays = AnyHit ? ray_sets_.shadow.rays : ray_sets_.diffuse.rays;
+        auto& results = [&]() -> auto& {
+            if constexpr (AnyHit)
+                return occluded_;
+            else
+                return secondary_hits_;
+        }
+        ();
+        auto& partner_results = [&]() -> auto& {
+            if constexpr (AnyHit)
+                return partner_occluded_;
+            else
+                return partner_secondary_hits_;
+        }
+        ();
+        results.resize(rays.size());
+        partner_results.resize(rays.size());
+        partner_secondary_hits_.resize(rays.size());  // --paired closest
+        auto trace = [&](auto& into, StreamTraversal stream) {
+            if constexpr (AnyHit)
+                occlude_stream_parallel(accel, rays, into, stream);
+            else
+                intersect_stream_parallel(accel, rays, into, stream);
+        };
+
+        BenchRow row = start_row(run, to_string(config.kind), to_string(traversal));
+        row.build_ms = build;
         const SimdWidth width = simd_width(traversal);
-        const bool vs_single = options_.vs_single && width != SimdWidth::scalar;
-        if (asks(RayKind::shadow)) {
-            BenchRow row = start_row(run, to_string(config.kind), to_string(traversal));
-            row.build_ms = build;
-            const std::vector<Ray>& rays = ray_sets_.shadow.rays;
-            occluded_.resize(rays.size());
-            partner_occluded_.resize(rays.size());
-            partner_secondary_hits_.resize(rays.size());
-            const StreamTraversal shadow{width, PacketGrouping::in_order};
-            std::vector<Partner> partners;
-            if (vs_single)
-                partners.push_back({{[&] { occlude_stream_parallel(accel, rays, partner_occluded_, {}); }},
-                                    &BenchRow::speedup_over_single_rays});
-            if (options_.pairs_with(PairPartner::closest))
-                partners.push_back({{[&] { intersect_stream_parallel(accel, rays, partner_secondary_hits_, shadow); }},
-                                    &BenchRow::paired_over_closest});
+        const StreamTraversal stream{width, AnyHit ? PacketGrouping::in_order : PacketGrouping::by_octant};
+        if (!AnyHit && width != SimdWidth::scalar) row.note = fmt::format("packets {}", to_string(stream.grouping));
+        std::vector<Partner> partners;
+        if (options_.vs_single && width != SimdWidth::scalar)
+            partners.push_back({{[&] { trace(partner_results, {}); }}, &BenchRow::speedup_over_single_rays});
+        if (AnyHit && options_.pairs_with(PairPartner::closest))
+            partners.push_back({{[&] { intersect_stream_parallel(accel, rays, partner_secondary_hits_, stream); }},
+                                &BenchRow::paired_over_closest});
 #if TRIDENT_HAVE_EMBREE
-            if (run.embree_partner)
-                partners.push_back({{[&] {
-                                        run.embree_partner->occluded(rays, rays_per_call(traversal), shadow.grouping,
-                                                                     partner_occluded_);
-                                    }},
-                                    &BenchRow::paired_over_embree});
+        if (run.embree_partner)
+            partners.push_back({{[&] {
+                                    if constexpr (AnyHit)
+                                        run.embree_partner->occluded(rays, rays_per_call(traversal), stream.grouping,
+                                                                     partner_results);
+                                    else
+                                        run.embree_partner->intersect(rays, rays_per_call(traversal), stream.grouping,
+                                                                      partner_results);
+                                }},
+                                &BenchRow::paired_over_embree});
 #endif
-            time_renders(
-                fmt::format("{} {} shadow", what, row.traversal), row,
-                [&] { occlude_stream_parallel(accel, rays, occluded_, shadow); }, partners);
-            finish_secondary_row(std::move(row), RayKind::shadow, accel.stats().bytes);
-        }
-        if (asks(RayKind::diffuse)) {
-            BenchRow row = start_row(run, to_string(config.kind), to_string(traversal));
-            row.build_ms = build;
-            const std::vector<Ray>& rays = ray_sets_.diffuse.rays;
-            secondary_hits_.resize(rays.size());
-            partner_secondary_hits_.resize(rays.size());
-            // Each row times exactly its traversal; the renderer's pick per structure is incoherent_traversal().
-            const StreamTraversal diffuse{width, PacketGrouping::by_octant};
-            if (width != SimdWidth::scalar) row.note = fmt::format("packets {}", to_string(diffuse.grouping));
-            std::vector<Partner> partners;
-            if (vs_single)
-                partners.push_back({{[&] { intersect_stream_parallel(accel, rays, partner_secondary_hits_, {}); }},
-                                    &BenchRow::speedup_over_single_rays});
-#if TRIDENT_HAVE_EMBREE
-            if (run.embree_partner)
-                partners.push_back({{[&] {
-                                        run.embree_partner->intersect(rays, rays_per_call(traversal), diffuse.grouping,
-                                                                      partner_secondary_hits_);
-                                    }},
-                                    &BenchRow::paired_over_embree});
-#endif
-            time_renders(
-                fmt::format("{} {} diffuse", what, row.traversal), row,
-                [&] { intersect_stream_parallel(accel, rays, secondary_hits_, diffuse); }, partners);
-            finish_secondary_row(std::move(row), RayKind::diffuse, accel.stats().bytes);
-        }
+        time_renders(
+            fmt::format("{} {} {}", what, row.traversal, to_string(kind)), row, [&] { trace(results, stream); },
+            partners);
+        finish_secondary_row(std::move(row), kind, accel.stats().bytes);
     }
 
     void run_structure(const SceneRun& run, const StructureConfig& config) {
@@ -452,7 +450,8 @@ private:
                 for (TriangleTest test : options_.triangle_tests)
                     for (SlabTest slabs : options_.slab_tests)
                         run_variant(run, config, *accel, build, traversal, test, slabs, what, label);
-            run_secondary_rows(run, config, *accel, build, traversal, what);
+            if (asks(RayKind::shadow)) run_secondary_row<true>(run, config, *accel, build, traversal, what);
+            if (asks(RayKind::diffuse)) run_secondary_row<false>(run, config, *accel, build, traversal, what);
         }
     }
 

@@ -194,6 +194,17 @@ std::pair<std::size_t, std::string> paired_rows(const std::string& options, cons
     return {paired, run.out};
 }
 
+/// Built without Embree, an option that needs it must be refused with `expected` on stderr; true
+/// then (the caller has nothing more to check).
+bool refused_without_embree(const std::string& option, const std::string& expected) {
+    if (trident::bench::kHaveEmbree) return false;
+    const BenchRun run = run_bench(kTiny + option);
+    CHECK(run.exit_code != 0);
+    CHECK(run.err.find(expected) != std::string::npos);
+    MESSAGE("built without Embree: " << option << " is refused");
+    return true;
+}
+
 TEST_CASE("--scaling times each render of a row at more than one thread again on one thread") {
     const auto [paired, out] =
         paired_rows("--accel bvh --simd scalar --threads 1,2 --scaling", "speedup_over_one_thread",
@@ -230,13 +241,7 @@ TEST_CASE("--paired times each primary row against the same structure's scalar r
 }
 
 TEST_CASE("--paired embree times each of our primary rows against Embree's call of the same width") {
-    if (!trident::bench::kHaveEmbree) {
-        const BenchRun run = run_bench(kTiny + "--paired embree");
-        CHECK(run.exit_code != 0);
-        CHECK(run.err.find("--paired embree: this binary was built without Embree 3") != std::string::npos);
-        MESSAGE("built without Embree: --paired embree is refused");
-        return;
-    }
+    if (refused_without_embree("--paired embree", "--paired embree: this binary was built without Embree 3")) return;
     const auto [paired, out] =
         paired_rows("--accel bvh --simd scalar,simd4 --threads 1 --embree 4 --paired embree", "paired_over_embree",
                     [](const nlohmann::json& row) { return row.at("structure") != "embree"; });
@@ -280,13 +285,7 @@ TEST_CASE("--paired closest times each shadow row against the closest hit of the
 }
 
 TEST_CASE("--embree stream adds Embree's rtcIntersect1M row on primary rays, as exact as its packets") {
-    if (!trident::bench::kHaveEmbree) {
-        const BenchRun run = run_bench(kTiny + "--embree stream");
-        CHECK(run.exit_code != 0);
-        CHECK(run.err.find("--embree: this binary was built without Embree 3") != std::string::npos);
-        MESSAGE("built without Embree: --embree stream is refused");
-        return;
-    }
+    if (refused_without_embree("--embree stream", "--embree: this binary was built without Embree 3")) return;
     const fs::path json_path = scratch_dir() / "stream.json";
     // 37x21: the image's edge cuts the 8x8 blocks on both sides.
     const BenchRun run = run_bench(
