@@ -68,6 +68,8 @@ std::span<const Column> row_columns() {
         {"paired_over_scalar", [](const BenchRow& r) { return optional_cell(r.paired_over_scalar); }},
         {"paired_over_bvh", [](const BenchRow& r) { return optional_cell(r.paired_over_bvh); }},
         {"paired_over_embree", [](const BenchRow& r) { return optional_cell(r.paired_over_embree); }},
+        {"paired_over_embree_best", [](const BenchRow& r) { return optional_cell(r.paired_over_embree_best); }},
+        {"paired_over_closest", [](const BenchRow& r) { return optional_cell(r.paired_over_closest); }},
         {"sweep_parameter", [](const BenchRow& r) { return text_cell(r.sweep_parameter); }},
         {"sweep_value", [](const BenchRow& r) { return optional_cell(r.sweep_value); }},
         {"note", [](const BenchRow& r) { return text_cell(r.note); }},

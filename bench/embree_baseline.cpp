@@ -3,13 +3,14 @@
 #if TRIDENT_HAVE_EMBREE
 
 #include <fmt/format.h>
-#include <tbb/blocked_range.h>
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <array>
 #include <stdexcept>
-#include <type_traits>
 #include <string>
+#include <type_traits>
 
 #include "bench/statistics.h"
 #include "render/primary_packets.h"
@@ -173,50 +174,99 @@ void trace_packets(RTCScene scene, const Camera& camera, std::span<Hit> hits) {
     });
 }
 
-// ---- Secondary rays (issue 9): a list of rays, any-hit or closest hit -------------------------
-
-constexpr std::size_t kStreamChunk = 1024;  // rays per parallel task, as our ray streams
-
-bool has_work(const Ray& ray) { return ray.tmax > ray.tmin; }
-
-/// rtcOccluded1 per ray; Embree marks an occluded ray by setting tfar to -inf.
-void occluded_single(RTCScene scene, std::span<const Ray> rays, std::span<std::uint8_t> out) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), kStreamChunk), [&](const auto& range) {
+/// The camera's rays in 8x8 pixel blocks, one rtcIntersect1M call per block (Embree's stream path).
+void trace_stream_blocks(RTCScene scene, const Camera& camera, std::span<Hit> hits) {
+    constexpr std::uint32_t kBlock = kEmbreeStreamBlock;
+    for_each_block(camera, kBlock, kBlock, [&](std::uint32_t bx, std::uint32_t by) {
         RTCIntersectContext context = coherent_context();
-        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-            const Ray& ray = rays[i];
-            if (!has_work(ray)) {
-                out[i] = 0;
-                continue;
+        std::array<RTCRayHit, kBlock * kBlock> rayhits;
+        std::array<std::size_t, kBlock * kBlock> pixel;
+        unsigned rays = 0;
+        for (std::uint32_t y = by * kBlock; y < std::min((by + 1) * kBlock, camera.height()); ++y)
+            for (std::uint32_t x = bx * kBlock; x < std::min((bx + 1) * kBlock, camera.width()); ++x) {
+                rayhits[rays].ray = to_embree(camera.primary_ray(x, y));
+                rayhits[rays].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                pixel[rays++] = std::size_t(y) * camera.width() + x;
             }
-            RTCRay r = to_embree(ray);
-            rtcOccluded1(scene, &context, &r);
-            out[i] = r.tfar < 0.0f;
+        rtcIntersect1M(scene, &context, rayhits.data(), rays, sizeof(RTCRayHit));
+        for (unsigned i = 0; i < rays; ++i) {
+            const RTCRayHit& r = rayhits[i];
+            hits[pixel[i]] = to_hit(r.hit.geomID, r.hit.primID, r.ray.tfar, r.hit.u, r.hit.v);
         }
     });
 }
 
-/// rtcOccludedN over consecutive rays (the list is in primary-packet order), untraced rays off.
-template <int Width>
-void occluded_packets(RTCScene scene, std::span<const Ray> rays, std::span<std::uint8_t> out) {
-    using P = Packet<Width>;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), kStreamChunk), [&](const auto& range) {
-        RTCIntersectContext context = coherent_context();
-        for (std::size_t first = range.begin(); first < range.end(); first += Width) {
-            alignas(64) int valid[Width];
-            alignas(64) typename P::Rays r{};
-            for (int lane = 0; lane < Width; ++lane) {
-                const std::size_t i = first + std::size_t(lane);
-                valid[lane] = i < range.end() && has_work(rays[i]) ? -1 : 0;
-                if (!valid[lane]) continue;
-                set_lane(r, lane, rays[i]);
-            }
-            P::occluded(valid, scene, &context, &r);
-            for (int lane = 0; lane < Width; ++lane) {
-                const std::size_t i = first + std::size_t(lane);
-                if (i < range.end()) out[i] = valid[lane] && r.tfar[lane] < 0.0f;
+// ---- Secondary rays (issue 9): a list of rays, any-hit or closest hit -------------------------
+
+/// Writes one result per ray: the any-hit bit or the closest hit.
+template <bool AnyHit>
+using Result = std::conditional_t<AnyHit, std::uint8_t, Hit>;
+
+/// Rays kept in primary-packet order are coherent; rays regrouped by octant are not.
+RTCIntersectContext stream_context(PacketGrouping grouping) {
+    RTCIntersectContext context = coherent_context();
+    if (grouping == PacketGrouping::by_octant) context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+    return context;
+}
+
+/// rtcOccluded1 or rtcIntersect1 per ray; Embree marks an occluded ray by setting tfar to -inf.
+template <bool AnyHit>
+void trace_single_rays(RTCScene scene, std::span<const Ray> rays, PacketGrouping grouping,
+                       std::span<Result<AnyHit>> out) {
+    for_each_stream_chunk(rays.size(), [&](std::size_t first, std::size_t last) {
+        RTCIntersectContext context = stream_context(grouping);
+        for (std::size_t i = first; i != last; ++i) {
+            if (!is_traced(rays[i])) {
+                out[i] = Result<AnyHit>{};
+            } else if constexpr (AnyHit) {
+                RTCRay r = to_embree(rays[i]);
+                rtcOccluded1(scene, &context, &r);
+                out[i] = r.tfar < 0.0f;
+            } else {
+                out[i] = intersect_one(scene, context, rays[i]);
             }
         }
+    });
+}
+
+/// rtcOccludedN or rtcIntersectN on the packets our traversals make of the same rays
+/// (for_each_stream_packet over the same chunks), lanes past a short packet's end off.
+template <int Width, bool AnyHit>
+void trace_ray_packets(RTCScene scene, std::span<const Ray> rays, PacketGrouping grouping,
+                       std::span<Result<AnyHit>> out) {
+    using P = Packet<Width>;
+    for_each_stream_chunk(rays.size(), [&](std::size_t first, std::size_t last) {
+        RTCIntersectContext context = stream_context(grouping);
+        const std::span<const Ray> chunk = rays.subspan(first, last - first);
+        for (std::size_t i = 0; i < chunk.size(); ++i)
+            if (!is_traced(chunk[i])) out[first + i] = Result<AnyHit>{};
+        for_each_stream_packet(chunk, Width, grouping, [&](std::span<const std::size_t> index) {
+            alignas(64) int valid[Width];
+            alignas(64) std::conditional_t<AnyHit, typename P::Rays, typename P::RayHit> packet{};
+            auto& packet_rays = [&]() -> auto& {
+                if constexpr (AnyHit)
+                    return packet;
+                else
+                    return packet.ray;
+            }
+            ();
+            for (int lane = 0; lane < Width; ++lane) {
+                valid[lane] = std::size_t(lane) < index.size() ? -1 : 0;
+                if constexpr (!AnyHit) packet.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+                if (valid[lane]) set_lane(packet_rays, lane, chunk[index[std::size_t(lane)]]);
+            }
+            if constexpr (AnyHit)
+                P::occluded(valid, scene, &context, &packet);
+            else
+                P::intersect(valid, scene, &context, &packet);
+            for (std::size_t lane = 0; lane < index.size(); ++lane) {
+                if constexpr (AnyHit)
+                    out[first + index[lane]] = packet.tfar[lane] < 0.0f;
+                else
+                    out[first + index[lane]] = to_hit(packet.hit.geomID[lane], packet.hit.primID[lane],
+                                                      packet.ray.tfar[lane], packet.hit.u[lane], packet.hit.v[lane]);
+            }
+        });
     });
 }
 
@@ -236,10 +286,24 @@ void with_embree_width(int packet_width, F&& f) {
     throw std::invalid_argument(fmt::format("Embree has no packet width {}", packet_width));
 }
 
+/// Calls trace_single_rays or trace_ray_packets of the width for AnyHit's results.
+template <bool AnyHit>
+void trace_rays(RTCScene scene, std::span<const Ray> rays, int packet_width, PacketGrouping grouping,
+                std::span<Result<AnyHit>> out) {
+    with_embree_width(packet_width, [&](auto width) {
+        if constexpr (width == 1)
+            trace_single_rays<AnyHit>(scene, rays, grouping, out);
+        else
+            trace_ray_packets<width, AnyHit>(scene, rays, grouping, out);
+    });
+}
+
 }  // namespace
 
-EmbreeDevice::EmbreeDevice(int threads) {
-    device_ = rtcNewDevice(fmt::format("threads={},verbose=0", threads).c_str());
+EmbreeDevice::EmbreeDevice(int threads, EmbreeIsa isa) {
+    std::string config = fmt::format("threads={},verbose=0", threads);
+    if (isa != EmbreeIsa::native) config += fmt::format(",max_isa={}", to_string(isa));
+    device_ = rtcNewDevice(config.c_str());
     if (!device_)
         throw std::runtime_error(
             fmt::format("embree: rtcNewDevice failed (error {})", int(rtcGetDeviceError(nullptr))));
@@ -314,24 +378,18 @@ void EmbreeScene::trace(const Camera& camera, int packet_width, std::span<Hit> h
     });
 }
 
-void EmbreeScene::occluded(std::span<const Ray> rays, int packet_width, std::span<std::uint8_t> occluded) const {
-    with_embree_width(packet_width, [&](auto width) {
-        if constexpr (width == 1)
-            occluded_single(scene_, rays, occluded);
-        else
-            occluded_packets<width>(scene_, rays, occluded);
-    });
+void EmbreeScene::trace_stream(const Camera& camera, std::span<Hit> hits) const {
+    trace_stream_blocks(scene_, camera, hits);
 }
 
-void EmbreeScene::intersect(std::span<const Ray> rays, std::span<Hit> hits) const {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), kStreamChunk), [&](const auto& range) {
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-            hits[i] = has_work(rays[i]) ? intersect_one(scene_, context, rays[i]) : Hit{};
-        }
-    });
+void EmbreeScene::occluded(std::span<const Ray> rays, int packet_width, PacketGrouping grouping,
+                           std::span<std::uint8_t> occluded) const {
+    trace_rays<true>(scene_, rays, packet_width, grouping, occluded);
+}
+
+void EmbreeScene::intersect(std::span<const Ray> rays, int packet_width, PacketGrouping grouping,
+                            std::span<Hit> hits) const {
+    trace_rays<false>(scene_, rays, packet_width, grouping, hits);
 }
 
 }  // namespace trident::bench

@@ -17,7 +17,7 @@ namespace {
 /// The options as typed; resolve() checks them and turns them into BenchOptions.
 struct Arguments {
     std::vector<std::string> scenes, only, accel, simd, threads, embree, triangle_tests, slabs;
-    std::optional<std::string> embree_quality;
+    std::optional<std::string> embree_quality, embree_isa;
     std::vector<std::string> rays, paired;
     std::optional<std::filesystem::path> manifest, reference_hits, dump_hits, csv, json, markdown;
     std::optional<std::string> sweep;
@@ -119,22 +119,29 @@ std::vector<int> resolve_threads(const std::vector<std::string>& texts) {
     return threads;
 }
 
-std::vector<int> resolve_embree(const std::vector<std::string>& texts, bool given) {
-    std::vector<int> widths;
+/// --embree's list into the packet widths and the stream row; all of them when not given.
+void resolve_embree(const std::vector<std::string>& texts, bool given, BenchOptions& options) {
     if (!given) {
-        if (kHaveEmbree) widths.assign(std::begin(kEmbreePacketWidths), std::end(kEmbreePacketWidths));
-        return widths;
+        if (kHaveEmbree) {
+            options.embree_packet_widths.assign(std::begin(kEmbreePacketWidths), std::end(kEmbreePacketWidths));
+            options.embree_stream = true;
+        }
+        return;
     }
-    if (texts.size() == 1 && texts.front() == "none") return widths;
+    if (texts.size() == 1 && texts.front() == "none") return;
     if (!kHaveEmbree) refuse("--embree: this binary was built without Embree 3 (not found at configure time)");
     for (const std::string& text : texts) {
+        if (text == "stream") {
+            options.embree_stream = true;
+            continue;
+        }
         const auto width = parse_int(text);
         if (!width || std::find(std::begin(kEmbreePacketWidths), std::end(kEmbreePacketWidths), *width) ==
                           std::end(kEmbreePacketWidths))
-            refuse(fmt::format("--embree {}: expected 1, 4, 8, 16 (rtcIntersect1/4/8/16) or none", text));
-        push_unique(widths, *width);
+            refuse(fmt::format(
+                "--embree {}: expected 1, 4, 8, 16 (rtcIntersect1/4/8/16), stream (rtcIntersect1M) or none", text));
+        push_unique(options.embree_packet_widths, *width);
     }
-    return widths;
 }
 
 EmbreeQuality resolve_embree_quality(const std::optional<std::string>& text) {
@@ -144,6 +151,17 @@ EmbreeQuality resolve_embree_quality(const std::optional<std::string>& text) {
     if (*text == "medium") return EmbreeQuality::medium;
     if (*text == "high") return EmbreeQuality::high;
     refuse(fmt::format("--embree-quality {}: expected low, medium or high", *text));
+}
+
+EmbreeIsa resolve_embree_isa(const std::optional<std::string>& text) {
+    if (!text) return EmbreeIsa::native;
+    if (!kHaveEmbree) refuse("--embree-isa: this binary was built without Embree 3 (not found at configure time)");
+    for (EmbreeIsa isa : kAllEmbreeIsas)
+        if (*text == to_string(isa)) {
+            if (!cpu_runs(isa)) refuse(fmt::format("--embree-isa {}: this CPU does not run it", *text));
+            return isa;
+        }
+    refuse(fmt::format("--embree-isa {}: expected native, sse4.2, avx2 or avx512", *text));
 }
 
 ReferenceChoice resolve_reference(const Arguments& args) {
@@ -176,7 +194,7 @@ ReferenceChoice resolve_reference(const Arguments& args) {
     return choice;
 }
 
-std::vector<PairPartner> resolve_paired(const std::vector<std::string>& names) {
+std::vector<PairPartner> resolve_paired(const std::vector<std::string>& names, const std::vector<RayKind>& kinds) {
     std::vector<PairPartner> partners;
     for (const std::string& name : names) {
         if (name == "scalar")
@@ -186,8 +204,12 @@ std::vector<PairPartner> resolve_paired(const std::vector<std::string>& names) {
         else if (name == "embree") {
             if (!kHaveEmbree) refuse("--paired embree: this binary was built without Embree 3");
             push_unique(partners, PairPartner::embree);
+        } else if (name == "closest") {
+            if (std::find(kinds.begin(), kinds.end(), RayKind::shadow) == kinds.end())
+                refuse("--paired closest: pairs shadow rows only; add shadow to --rays");
+            push_unique(partners, PairPartner::closest);
         } else
-            refuse(fmt::format("--paired {}: expected scalar, bvh or embree", name));
+            refuse(fmt::format("--paired {}: expected scalar, bvh, embree or closest", name));
     }
     return partners;
 }
@@ -226,8 +248,9 @@ BenchOptions resolve(const Arguments& args, const CLI::App& app) {
     if (options.sweep && options.ray_kinds != std::vector<RayKind>{RayKind::primary})
         refuse("--sweep times primary rays only: leave out --rays");
     options.threads = resolve_threads(args.threads);
-    options.embree_packet_widths = resolve_embree(args.embree, app.count("--embree") > 0);
+    resolve_embree(args.embree, app.count("--embree") > 0, options);
     options.embree_quality = resolve_embree_quality(args.embree_quality);
+    options.embree_isa = resolve_embree_isa(args.embree_isa);
     options.reference = resolve_reference(args);
 
     options.scene_specs = args.scenes;
@@ -240,7 +263,7 @@ BenchOptions resolve(const Arguments& args, const CLI::App& app) {
     options.quiet = args.quiet;
     options.scaling = args.scaling;
     options.vs_single = args.vs_single;
-    options.paired = resolve_paired(args.paired);
+    options.paired = resolve_paired(args.paired, options.ray_kinds);
     options.bvh_width = args.bvh_width;
     return options;
 }
@@ -278,11 +301,16 @@ void add_options(CLI::App& app, Arguments& args) {
                    "another tracer's hit buffer, or a folder of SCENE.hits files");
     app.add_option("--dump-hits", args.dump_hits,
                    "folder to write our hit buffers to (SCENE.STRUCTURE.TRAVERSAL.hits)");
-    app.add_option("--embree", args.embree, "Embree rows, comma separated: 1,4,8,16 (rtcIntersect1/4/8/16) or none")
+    app.add_option("--embree", args.embree,
+                   "Embree rows, comma separated: 1,4,8,16 (rtcIntersect1/4/8/16), stream (rtcIntersect1M on 8x8 "
+                   "pixel blocks, primary rays) or none (default: all)")
         ->delimiter(',');
     app.add_option("--embree-quality", args.embree_quality,
                    "how Embree's rows build their BVH: high (spatial splits, the default), medium (binned SAH) or "
                    "low (Morton codes); the Embree reference is always built with high");
+    app.add_option("--embree-isa", args.embree_isa,
+                   "the most advanced ISA Embree's rows may use: native (default), sse4.2, avx2 or avx512 "
+                   "(rtcNewDevice's max_isa); the Embree reference always runs native");
     app.add_option("--sweep", args.sweep,
                    "sweep one build parameter: octree-depth, bvh-buckets, bvh-cost, kd-cost, kd-empty-bonus, "
                    "kd-perfect-splits, kd-depth");
@@ -297,9 +325,11 @@ void add_options(CLI::App& app, Arguments& args) {
                  "packet rows of shadow and diffuse rays also time the same rays as single rays right after each "
                  "run; their speed-up over single rays is the median of the pairs' ratios");
     app.add_option("--paired", args.paired,
-                   "partners each primary row is timed against run by run, comma separated: scalar (the same "
-                   "structure's single rays), bvh (the BVH at the same traversal), embree (rtcIntersect1/4/8/16 "
-                   "of the same width); each ratio is the median of the pairs'")
+                   "partners rows are timed against run by run, comma separated: scalar (primary rows: the same "
+                   "structure's single rays), bvh (primary rows: the BVH at the same traversal), embree (Embree's "
+                   "call of the same width on the same rays; primary rows also Embree's best, the faster of "
+                   "rtcIntersect16 and its stream), closest (shadow rows: the same traversal's closest hit); each "
+                   "ratio is the median of the pairs'")
         ->delimiter(',');
 }
 

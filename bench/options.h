@@ -38,12 +38,13 @@ struct ReferenceChoice {
     std::filesystem::path file;
 };
 
-/// What a primary row can be timed against in pairs (--paired): the partner's render runs right
-/// after each of the row's, on the same rays, so the two drift together on a shared machine.
+/// What a row can be timed against in pairs (--paired): the partner's render runs right after
+/// each of the row's, on the same rays, so the two drift together on a shared machine.
 enum class PairPartner {
-    scalar,  // the same structure's single-ray traversal (packet rows)
-    bvh,     // the BVH at the same traversal (KD-tree and octree rows)
-    embree,  // Embree's call of the same width: rtcIntersect1 for scalar, rtcIntersectN for simdN
+    scalar,   // the same structure's single-ray traversal (packet rows)
+    bvh,      // the BVH at the same traversal (KD-tree and octree rows)
+    embree,   // Embree's call of the same width on the same rays: rtcIntersect1/N, or rtcOccluded1/N
+    closest,  // shadow rows: the same traversal's closest hit on the same shadow rays
 };
 
 struct BenchOptions {
@@ -57,8 +58,10 @@ struct BenchOptions {
     std::vector<SlabTest> slab_tests;          // --slabs (default robust)
     std::vector<RayKind> ray_kinds;            // --rays (default primary only)
     std::vector<int> threads;
-    std::vector<int> embree_packet_widths;               // empty: no Embree rows
+    std::vector<int> embree_packet_widths;               // --embree 1,4,8,16: Embree's packet rows
+    bool embree_stream = false;                          // --embree stream: rtcIntersect1M on 8x8 blocks
     EmbreeQuality embree_quality = EmbreeQuality::high;  // --embree-quality, for Embree's rows (not its reference)
+    EmbreeIsa embree_isa = EmbreeIsa::native;            // --embree-isa, for Embree's rows (not its reference)
     std::uint32_t width = 1920, height = 1080;
     int repeats = 5;
     ReferenceChoice reference;
@@ -70,12 +73,15 @@ struct BenchOptions {
     /// --vs-single: packet rows of shadow and diffuse rays also time the same rays as single rays
     /// right after each run.
     bool vs_single = false;
-    /// --paired: the partners every primary row of ours is timed against, each run by run.
+    /// --paired: the partners rows of ours are timed against, each run by run.
     std::vector<PairPartner> paired;
     bool pairs_with(PairPartner partner) const {
         return std::find(paired.begin(), paired.end(), partner) != paired.end();
     }
     std::string command_line;
+
+    /// Whether Embree has rows of its own in this run (never in a sweep).
+    bool runs_embree() const { return !sweep && (!embree_packet_widths.empty() || embree_stream); }
 };
 
 /// Empty when --help was asked for (and printed). Throws std::invalid_argument with one line

@@ -27,8 +27,8 @@ struct BenchRow {
     std::size_t triangles = 0;
     double load_ms = 0.0;  // OBJ parsing or built-in generation, once per scene
 
-    std::string structure;             // "bvh", "kdtree", "octree", "brute" or "embree"
-    std::string traversal;             // ours: scalar / simd4 / simd8 / simd16; Embree: rtcIntersect1 / 4 / 8 / 16
+    std::string structure;  // "bvh", "kdtree", "octree", "brute" or "embree"
+    std::string traversal;  // ours: scalar / simd4 / simd8 / simd16; Embree: rtcIntersect1 / 4 / 8 / 16, stream8x8
     std::string triangle_test, slabs;  // ours: watertight / moller_trumbore, robust / fast; Embree: empty
     std::string ray_kind = "primary";  // the ray kind timed: primary, shadow or diffuse (bench/ray_sets.h)
     std::size_t ray_count = 0;         // rays traced per render when not W x H (secondary rays)
@@ -52,11 +52,15 @@ struct BenchRow {
     /// --vs-single, packet rows of shadow and diffuse rays: the median over the timed runs of (the
     /// same rays' time as single rays, taken right after) / (this row's time).
     std::optional<double> speedup_over_single_rays;
-    /// --paired, primary rows of ours: the median over the timed runs of (the partner's time on the
-    /// same rays, taken right after) / (this row's time), so above 1 is faster than the partner.
-    /// Partners: the same structure's scalar traversal (packet rows), the BVH at the same traversal
-    /// (KD-tree and octree rows), Embree's call of the same width.
-    std::optional<double> paired_over_scalar, paired_over_bvh, paired_over_embree;
+    /// --paired, rows of ours: the median over the timed runs of (the partner's time on the same
+    /// rays, taken right after) / (this row's time), so above 1 is faster than the partner.
+    /// Partners: the same structure's scalar traversal (primary packet rows), the BVH at the same
+    /// traversal (primary KD-tree and octree rows), Embree's call of the same width (every row:
+    /// rtcIntersect1/N, rtcOccluded1/N for shadow rays), Embree's best for primary rays (the faster,
+    /// run by run, of rtcIntersect16 and its stream rtcIntersect1M), the same traversal's closest
+    /// hit on the same shadow rays (shadow rows).
+    std::optional<double> paired_over_scalar, paired_over_bvh, paired_over_embree, paired_over_embree_best,
+        paired_over_closest;
 
     std::string sweep_parameter;
     std::optional<double> sweep_value;
@@ -84,7 +88,8 @@ struct BenchReport {
     std::string triangle_test;                // the triangle tests measured, comma separated
     std::string slabs;                        // the slab tests measured, comma separated
     std::string reference;                    // the reference the run chose; rows say where a scene differs
-    std::string embree_settings;              // empty without Embree rows
+    std::string embree_settings;              // empty without Embree rows or partners
+    std::string embree_isa;                   // --embree-isa: native, sse4.2, avx2 or avx512
     std::string sweep_name, sweep_parameter;  // empty unless --sweep
     std::vector<std::string> notes;           // refusals and other things a reader must know
     std::vector<BenchRow> rows;

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <span>
 
@@ -87,20 +88,19 @@ std::size_t variant_count(const BenchOptions& options) {
     return options.triangle_tests.size() * options.slab_tests.size();
 }
 
-bool runs_embree(const BenchOptions& options) { return !options.sweep && !options.embree_packet_widths.empty(); }
+/// Embree's rows, one per packet width and the stream, per ray kind that has them.
+std::size_t embree_row_count(const BenchOptions& options) {
+    return options.runs_embree() ? options.embree_packet_widths.size() + (options.embree_stream ? 1 : 0) : 0;
+}
 
-/// Our Mrays/s over Embree's on the same scene, rays and thread count; scalar rows compare with
-/// rtcIntersect1, simdN rows with rtcIntersectN.
+/// Our Mrays/s over Embree's on the same scene, rays and thread count: scalar rows compare with
+/// rtcIntersect1 (rtcOccluded1 for shadow rays), simdN rows with rtcIntersectN (rtcOccludedN).
 void fill_ratios_to_embree(std::span<BenchRow> rows) {
     for (BenchRow& row : rows) {
         if (row.is_embree()) continue;
         const auto traversal = parse_traversal(row.traversal);
         if (!traversal) continue;
-        // Shadow rows compare with rtcOccludedN of the same width, diffuse rows with rtcIntersect1.
-        const std::string counterpart = row.ray_kind == to_string(RayKind::shadow)
-                                            ? embree_occluded_name(rays_per_call(*traversal))
-                                        : row.ray_kind == to_string(RayKind::diffuse) ? embree_call_name(1)
-                                                                                      : embree_counterpart(*traversal);
+        const std::string counterpart = embree_counterpart(*traversal, row.ray_kind);
         for (const BenchRow& embree : rows)
             if (embree.is_embree() && embree.threads == row.threads && embree.traversal == counterpart &&
                 embree.ray_kind == row.ray_kind && embree.mrays_per_s() > 0)
@@ -114,10 +114,10 @@ public:
         : options_(options),
           configs_(structure_configs(options)),
           scenes_(select_scenes(options)),
-          progress_(scenes_.size() * options.threads.size() *
-                        ((runs_embree(options) ? options.embree_packet_widths.size() : 0) +
-                         configs_.size() * options.traversals.size() * variant_count(options)),
-                    options.quiet) {}
+          progress_(
+              scenes_.size() * options.threads.size() *
+                  (embree_row_count(options) + configs_.size() * options.traversals.size() * variant_count(options)),
+              options.quiet) {}
 
     BenchReport run() {
         start_report();
@@ -145,7 +145,9 @@ private:
             report_.slabs += fmt::format("{}{}", report_.slabs.empty() ? "" : ", ", to_string(slabs));
         report_.reference = describe_reference(options_.reference);
 #if TRIDENT_HAVE_EMBREE
-        if (runs_embree(options_)) report_.embree_settings = embree_settings(options_.embree_quality);
+        if (options_.runs_embree() || options_.pairs_with(PairPartner::embree))
+            report_.embree_settings = embree_settings(options_.embree_quality, options_.embree_isa);
+        report_.embree_isa = to_string(options_.embree_isa);
 #endif
         if (options_.sweep) {
             report_.sweep_name = options_.sweep->name;
@@ -188,14 +190,14 @@ private:
             // --paired embree: Embree's scene on a device of this row's thread count, as its own rows.
             std::optional<EmbreeDevice> embree_device;
             std::optional<EmbreeScene> embree_partner;
-            if (asks(RayKind::primary) && options_.pairs_with(PairPartner::embree)) {
+            if (options_.pairs_with(PairPartner::embree)) {
                 progress_.show(fmt::format("{}: building Embree's scene to pair with", loaded.scene.name));
-                embree_device.emplace(threads);
+                embree_device.emplace(threads, options_.embree_isa);
                 embree_partner.emplace(*embree_device, loaded.scene.mesh, options_.embree_quality);
                 run.embree_partner = &*embree_partner;
             }
 #endif
-            if (runs_embree(options_)) run_embree(run);
+            if (options_.runs_embree()) run_embree(run);
             for (const StructureConfig& config : configs_) run_structure(run, config);
         }
         fill_ratios_to_embree(std::span(report_.rows).subspan(first_row));
@@ -234,9 +236,10 @@ private:
     }
 
     /// A trace timed right after each of a row's renders, on the same rays; the median of its time
-    /// over the render's goes into the row's field `ratio`.
+    /// over the render's goes into the row's field `ratio`. A partner of several traces ("Embree's
+    /// best") times each of them and takes the fastest, run by run.
     struct Partner {
-        std::function<void()> trace;
+        std::vector<std::function<void()>> traces;
         std::optional<double> BenchRow::*ratio;
     };
 
@@ -266,7 +269,8 @@ private:
                 if (run >= kWarmupRuns) speedups.push_back(one_thread_ms / ms);
             }
             for (std::size_t i = 0; i < partners.size(); ++i) {
-                const double partner_ms = timed(partners[i].trace);
+                double partner_ms = std::numeric_limits<double>::infinity();
+                for (const auto& trace : partners[i].traces) partner_ms = std::min(partner_ms, timed(trace));
                 if (run >= kWarmupRuns) partner_ratios[i].push_back(partner_ms / ms);
             }
             return ms;
@@ -289,7 +293,7 @@ private:
     void run_embree([[maybe_unused]] const SceneRun& run) {
 #if TRIDENT_HAVE_EMBREE
         const std::string what = fmt::format("{}: embree, {} threads", run.loaded.scene.name, run.threads);
-        const EmbreeDevice device(run.threads);
+        const EmbreeDevice device(run.threads, options_.embree_isa);
         std::optional<EmbreeScene> scene;
         const Summary build = measure_repeated(options_.repeats, [&](int i) {
             progress_.show(fmt::format("{}: build {}", what, run_label(i)));
@@ -304,8 +308,17 @@ private:
             time_renders(fmt::format("{} {}", what, row.traversal), row,
                          [&] { scene->trace(run.camera, width, hits_); });
             row.bytes = scene->bytes();
-            row.note = embree_settings(options_.embree_quality);
+            row.note = embree_settings(options_.embree_quality, options_.embree_isa);
             finish_row(run, std::move(row), fmt::format("embree.{}", embree_call_name(width)));
+        }
+        if (asks(RayKind::primary) && options_.embree_stream) {  // its stream: rtcIntersect1M on 8x8 blocks
+            BenchRow row = start_row(run, kEmbreeStructure, kEmbreeStreamName);
+            row.build_ms = build;
+            time_renders(fmt::format("{} {}", what, row.traversal), row,
+                         [&] { scene->trace_stream(run.camera, hits_); });
+            row.bytes = scene->bytes();
+            row.note = embree_settings(options_.embree_quality, options_.embree_isa);
+            finish_row(run, std::move(row), fmt::format("embree.{}", kEmbreeStreamName));
         }
         for (int width : options_.embree_packet_widths) {  // shadow rays: rtcOccluded1 / 4 / 8 / 16
             if (!asks(RayKind::shadow)) break;
@@ -313,15 +326,17 @@ private:
             row.build_ms = build;
             occluded_.resize(ray_sets_.shadow.rays.size());
             time_renders(fmt::format("{} {} shadow", what, row.traversal), row,
-                         [&] { scene->occluded(ray_sets_.shadow.rays, width, occluded_); });
+                         [&] { scene->occluded(ray_sets_.shadow.rays, width, PacketGrouping::in_order, occluded_); });
             finish_secondary_row(std::move(row), RayKind::shadow, scene->bytes());
         }
-        if (asks(RayKind::diffuse)) {  // diffuse rays: rtcIntersect1
-            BenchRow row = start_row(run, kEmbreeStructure, embree_call_name(1));
+        for (int width : options_.embree_packet_widths) {  // diffuse rays: rtcIntersect1 / 4 / 8 / 16
+            if (!asks(RayKind::diffuse)) break;
+            BenchRow row = start_row(run, kEmbreeStructure, embree_call_name(width));
             row.build_ms = build;
             secondary_hits_.resize(ray_sets_.diffuse.rays.size());
-            time_renders(fmt::format("{} {} diffuse", what, row.traversal), row,
-                         [&] { scene->intersect(ray_sets_.diffuse.rays, secondary_hits_); });
+            time_renders(fmt::format("{} {} diffuse", what, row.traversal), row, [&] {
+                scene->intersect(ray_sets_.diffuse.rays, width, PacketGrouping::by_octant, secondary_hits_);
+            });
             finish_secondary_row(std::move(row), RayKind::diffuse, scene->bytes());
         }
 #endif
@@ -342,48 +357,75 @@ private:
         row.ray_count = kind == RayKind::shadow ? ray_sets_.shadow_traced : ray_sets_.diffuse_traced;
         row.bytes = bytes;
         row.reference.clear();
-        if (row.is_embree()) row.note = embree_settings(options_.embree_quality);
+        if (row.is_embree())
+            row.note = embree_settings(options_.embree_quality, options_.embree_isa) +
+                       (kind == RayKind::diffuse && row.traversal != embree_call_name(1)
+                            ? fmt::format("; packets {}", to_string(PacketGrouping::by_octant))
+                            : "");
         report_.rows.push_back(std::move(row));
     }
 
-    /// Our shadow and diffuse rows for one structure and traversal (default triangle and slab tests):
-    /// shadow rays as packets in primary-packet order, diffuse rays as packets grouped by direction
-    /// octant, each row at its own width (the renderer's pick for diffuse rays is incoherent_traversal()).
-    void run_secondary_rows(const SceneRun& run, const StructureConfig& config, const AnyAccel& accel,
-                            const Summary& build, Traversal traversal, const std::string& what) {
+    /// Our shadow (AnyHit) or diffuse row for one structure and traversal (default triangle and
+    /// slab tests): shadow rays as packets in primary-packet order, diffuse rays as packets grouped
+    /// by direction octant, each row at its own width (the renderer's pick for diffuse rays is
+    /// incoherent_traversal()). Partners trace into their own buffers (partner_occluded_,
+    /// partner_secondary_hits_), so the row's results stay as the row traced them.
+    template <bool AnyHit>
+    void run_secondary_row(const SceneRun& run, const StructureConfig& config, const AnyAccel& accel,
+                           const Summary& build, Traversal traversal, const std::string& what) {
+        const RayKind kind = AnyHit ? RayKind::shadow : RayKind::diffuse;
+        const std::vector<Ray>& rays = AnyHit ? ray_sets_.shadow.rays : ray_sets_.diffuse.rays;
+        auto& results = [&]() -> auto& {
+            if constexpr (AnyHit)
+                return occluded_;
+            else
+                return secondary_hits_;
+        }
+        ();
+        auto& partner_results = [&]() -> auto& {
+            if constexpr (AnyHit)
+                return partner_occluded_;
+            else
+                return partner_secondary_hits_;
+        }
+        ();
+        results.resize(rays.size());
+        partner_results.resize(rays.size());
+        partner_secondary_hits_.resize(rays.size());  // --paired closest
+        auto trace = [&](auto& into, StreamTraversal stream) {
+            if constexpr (AnyHit)
+                occlude_stream_parallel(accel, rays, into, stream);
+            else
+                intersect_stream_parallel(accel, rays, into, stream);
+        };
+
+        BenchRow row = start_row(run, to_string(config.kind), to_string(traversal));
+        row.build_ms = build;
         const SimdWidth width = simd_width(traversal);
-        if (asks(RayKind::shadow)) {
-            BenchRow row = start_row(run, to_string(config.kind), to_string(traversal));
-            row.build_ms = build;
-            occluded_.resize(ray_sets_.shadow.rays.size());
-            const StreamTraversal shadow{width, PacketGrouping::in_order};
-            std::vector<Partner> single_rays;
-            if (options_.vs_single && width != SimdWidth::scalar)
-                single_rays.push_back({[&] { occlude_stream_parallel(accel, ray_sets_.shadow.rays, occluded_, {}); },
-                                       &BenchRow::speedup_over_single_rays});
-            time_renders(
-                fmt::format("{} {} shadow", what, row.traversal), row,
-                [&] { occlude_stream_parallel(accel, ray_sets_.shadow.rays, occluded_, shadow); }, single_rays);
-            finish_secondary_row(std::move(row), RayKind::shadow, accel.stats().bytes);
-        }
-        if (asks(RayKind::diffuse)) {
-            BenchRow row = start_row(run, to_string(config.kind), to_string(traversal));
-            row.build_ms = build;
-            secondary_hits_.resize(ray_sets_.diffuse.rays.size());
-            // Each row times exactly its traversal; the renderer's pick per structure is incoherent_traversal().
-            const StreamTraversal diffuse{width, PacketGrouping::by_octant};
-            if (width != SimdWidth::scalar) row.note = fmt::format("packets {}", to_string(diffuse.grouping));
-            std::vector<Partner> single_rays;
-            if (options_.vs_single && width != SimdWidth::scalar)
-                single_rays.push_back(
-                    {[&] { intersect_stream_parallel(accel, ray_sets_.diffuse.rays, secondary_hits_, {}); },
-                     &BenchRow::speedup_over_single_rays});
-            time_renders(
-                fmt::format("{} {} diffuse", what, row.traversal), row,
-                [&] { intersect_stream_parallel(accel, ray_sets_.diffuse.rays, secondary_hits_, diffuse); },
-                single_rays);
-            finish_secondary_row(std::move(row), RayKind::diffuse, accel.stats().bytes);
-        }
+        const StreamTraversal stream{width, AnyHit ? PacketGrouping::in_order : PacketGrouping::by_octant};
+        if (!AnyHit && width != SimdWidth::scalar) row.note = fmt::format("packets {}", to_string(stream.grouping));
+        std::vector<Partner> partners;
+        if (options_.vs_single && width != SimdWidth::scalar)
+            partners.push_back({{[&] { trace(partner_results, {}); }}, &BenchRow::speedup_over_single_rays});
+        if (AnyHit && options_.pairs_with(PairPartner::closest))
+            partners.push_back({{[&] { intersect_stream_parallel(accel, rays, partner_secondary_hits_, stream); }},
+                                &BenchRow::paired_over_closest});
+#if TRIDENT_HAVE_EMBREE
+        if (run.embree_partner)
+            partners.push_back({{[&] {
+                                    if constexpr (AnyHit)
+                                        run.embree_partner->occluded(rays, rays_per_call(traversal), stream.grouping,
+                                                                     partner_results);
+                                    else
+                                        run.embree_partner->intersect(rays, rays_per_call(traversal), stream.grouping,
+                                                                      partner_results);
+                                }},
+                                &BenchRow::paired_over_embree});
+#endif
+        time_renders(
+            fmt::format("{} {} {}", what, row.traversal, to_string(kind)), row, [&] { trace(results, stream); },
+            partners);
+        finish_secondary_row(std::move(row), kind, accel.stats().bytes);
     }
 
     void run_structure(const SceneRun& run, const StructureConfig& config) {
@@ -417,7 +459,8 @@ private:
                 for (TriangleTest test : options_.triangle_tests)
                     for (SlabTest slabs : options_.slab_tests)
                         run_variant(run, config, *accel, build, traversal, test, slabs, what, label);
-            run_secondary_rows(run, config, *accel, build, traversal, what);
+            if (asks(RayKind::shadow)) run_secondary_row<true>(run, config, *accel, build, traversal, what);
+            if (asks(RayKind::diffuse)) run_secondary_row<false>(run, config, *accel, build, traversal, what);
         }
     }
 
@@ -440,18 +483,24 @@ private:
         std::vector<Partner> partners;
         if (options_.pairs_with(PairPartner::scalar) && traversal != Traversal::scalar)
             partners.push_back(
-                {[&] { trace_primary(accel, run.camera, partner_hits_, test, SimdWidth::scalar, slabs); },
+                {{[&] { trace_primary(accel, run.camera, partner_hits_, test, SimdWidth::scalar, slabs); }},
                  &BenchRow::paired_over_scalar});
         if (run.bvh_partner && config.kind != AccelKind::bvh)
-            partners.push_back({[&] {
+            partners.push_back({{[&] {
                                     trace_primary(*run.bvh_partner, run.camera, partner_hits_, test,
                                                   simd_width(traversal), slabs);
-                                },
+                                }},
                                 &BenchRow::paired_over_bvh});
 #if TRIDENT_HAVE_EMBREE
-        if (run.embree_partner)
-            partners.push_back({[&] { run.embree_partner->trace(run.camera, rays_per_call(traversal), partner_hits_); },
+        if (run.embree_partner) {
+            const EmbreeScene& embree = *run.embree_partner;
+            partners.push_back({{[&] { embree.trace(run.camera, rays_per_call(traversal), partner_hits_); }},
                                 &BenchRow::paired_over_embree});
+            // Embree's best on primary rays: the faster of its 16-wide packets and its stream.
+            partners.push_back({{[&] { embree.trace(run.camera, 16, partner_hits_); },
+                                 [&] { embree.trace_stream(run.camera, partner_hits_); }},
+                                &BenchRow::paired_over_embree_best});
+        }
 #endif
         time_renders(
             fmt::format("{} {}", what, row.traversal), row,
@@ -492,11 +541,13 @@ private:
     std::vector<SceneChoice> scenes_;
     Progress progress_;
     BenchReport report_;
-    std::vector<Hit> hits_;               // one image of hits, reused by every trace
-    std::vector<Hit> partner_hits_;       // the same for the --paired partners' traces
-    SceneRaySets ray_sets_;               // the scene's shadow and diffuse rays (--rays)
-    std::vector<std::uint8_t> occluded_;  // shadow results, reused
-    std::vector<Hit> secondary_hits_;     // diffuse results, reused
+    std::vector<Hit> hits_;                       // one image of hits, reused by every trace
+    std::vector<Hit> partner_hits_;               // the same for the --paired partners' traces
+    SceneRaySets ray_sets_;                       // the scene's shadow and diffuse rays (--rays)
+    std::vector<std::uint8_t> occluded_;          // shadow results, reused
+    std::vector<Hit> secondary_hits_;             // diffuse results, reused
+    std::vector<std::uint8_t> partner_occluded_;  // the same for the partners' traces
+    std::vector<Hit> partner_secondary_hits_;
 };
 
 }  // namespace

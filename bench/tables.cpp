@@ -105,9 +105,7 @@ const BenchRow* find_row(const BenchReport& report, const TableKey& key, const s
     if (structure == kEmbreeStructure) {
         const auto ours = parse_traversal(key.traversal);
         if (!ours) return nullptr;
-        traversal = key.rays == "shadow"    ? embree_occluded_name(rays_per_call(*ours))
-                    : key.rays == "diffuse" ? embree_call_name(1)
-                                            : embree_counterpart(*ours);
+        traversal = embree_counterpart(*ours, key.rays);
     }
     for (const BenchRow& row : report.rows)
         if (row.scene == key.scene && row.threads == key.threads && row.structure == structure &&
@@ -130,7 +128,9 @@ std::vector<PairedColumn> paired_columns(const BenchReport& report) {
     std::vector<PairedColumn> present;
     for (const PairedColumn& column :
          {PairedColumn{"x scalar", &BenchRow::paired_over_scalar}, PairedColumn{"x BVH", &BenchRow::paired_over_bvh},
-          PairedColumn{"x Embree", &BenchRow::paired_over_embree}})
+          PairedColumn{"x Embree", &BenchRow::paired_over_embree},
+          PairedColumn{"x Embree best", &BenchRow::paired_over_embree_best},
+          PairedColumn{"x closest", &BenchRow::paired_over_closest}})
         if (std::any_of(report.rows.begin(), report.rows.end(),
                         [&](const BenchRow& r) { return (r.*column.ratio).has_value(); }))
             present.push_back(column);
@@ -138,9 +138,11 @@ std::vector<PairedColumn> paired_columns(const BenchReport& report) {
 }
 
 constexpr const char* kPairedFootnote =
-    "x scalar / x BVH / x Embree (--paired): each timed render was followed by its partner's on the same rays "
-    "(the same structure's scalar traversal; the BVH at the same traversal; Embree's rtcIntersect1 or "
-    "rtcIntersectN of the same width); the median of the pairs' time ratios, partner over row.";
+    "x scalar / x BVH / x Embree / x Embree best / x closest (--paired): each timed render was followed by its "
+    "partner's on the same rays (the same structure's scalar traversal; the BVH at the same traversal; Embree's "
+    "call of the same width, rtcIntersect1/N or, for shadow rays, rtcOccluded1/N; for primary rays the faster, run "
+    "by run, of Embree's rtcIntersect16 and its stream; for shadow rays the same traversal's closest hit); the "
+    "median of the pairs' time ratios, partner over row.";
 
 }  // namespace
 
@@ -228,7 +230,7 @@ TextTable study_table(const BenchReport& report) {
     if (has_structure(report, kEmbreeStructure))
         table.footnotes.push_back(
             "Embree columns: rtcIntersect1 beside scalar rows, rtcIntersectN beside simdN rows; for shadow rows "
-            "rtcOccluded1 / rtcOccludedN, for diffuse rows rtcIntersect1.");
+            "rtcOccluded1 / rtcOccludedN.");
     table.footnotes.push_back(fmt::format("Errors against {}.", report.reference));
     return table;
 }
@@ -341,7 +343,8 @@ TextTable embree_ratio_table(const BenchReport& report) {
     }
     if (!table.rows.empty())
         table.footnotes.push_back(
-            "scalar against rtcIntersect1, simdN against rtcIntersectN; above 1 is faster than Embree.");
+            "scalar against rtcIntersect1, simdN against rtcIntersectN (rtcOccluded1/N for shadow rays); above 1 is "
+            "faster than Embree.");
     return table;
 }
 

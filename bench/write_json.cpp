@@ -56,6 +56,7 @@ void write_json(const BenchReport& report, const std::filesystem::path& path) {
         {"reference", report.reference},
         {"embree_settings",
          report.embree_settings.empty() ? nlohmann::json(nullptr) : nlohmann::json(report.embree_settings)},
+        {"embree_isa", report.embree_settings.empty() ? nlohmann::json(nullptr) : nlohmann::json(report.embree_isa)},
         {"sweep", report.sweep_name.empty()
                       ? nlohmann::json(nullptr)
                       : nlohmann::json{{"name", report.sweep_name}, {"parameter", report.sweep_parameter}}},

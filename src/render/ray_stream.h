@@ -1,20 +1,17 @@
 #pragma once
 // Tracing a list of secondary rays (shadow, ambient-occlusion, diffuse-bounce) on the calling
-// thread, one at a time or as packets. Packets take the rays in list order (the order of the
-// primary packets that made them, which keeps shadow rays coherent) or regrouped by direction
-// octant (incoherent diffuse rays: lanes of a packet then share their slab-test signs).
-// Rays with tmax <= tmin are not traced: unoccluded, no hit.
+// thread, one at a time or as packets, cut from the list in order or by direction octant
+// (stream_packets.h). Rays with tmax <= tmin are not traced: unoccluded, no hit.
 #include <cstdint>
 #include <span>
 
 #include "accel/any_accel.h"
 #include "core/intersect_triangle.h"
 #include "core/slab_test.h"
+#include "render/stream_packets.h"
 #include "simd/width.h"
 
 namespace trident {
-
-enum class PacketGrouping { in_order, by_octant };
 
 /// How a stream is traced: single rays (width scalar) or packets of `width` lanes grouped so, with
 /// the robust or the fast slab test.
@@ -24,15 +21,13 @@ struct StreamTraversal {
     SlabTest slabs = SlabTest::robust;
 };
 
-const char* to_string(PacketGrouping grouping);
-
 /// Any-hit: occluded[i] = 1 when rays[i] hits anything in [tmin, tmax]. Throws std::runtime_error
 /// when the structure has no packet traversal of that width.
 void occlude_stream(const AnyAccel& accel, std::span<const Ray> rays, std::span<std::uint8_t> occluded,
                     StreamTraversal traversal, TriangleTest test = TriangleTest::watertight);
 /// Closest hit of each ray.
-void intersect_stream(const AnyAccel& accel, std::span<const Ray> rays, std::span<Hit> hits,
-                      StreamTraversal traversal, TriangleTest test = TriangleTest::watertight);
+void intersect_stream(const AnyAccel& accel, std::span<const Ray> rays, std::span<Hit> hits, StreamTraversal traversal,
+                      TriangleTest test = TriangleTest::watertight);
 
 /// The same over all cores, the list cut into chunks of consecutive rays.
 void occlude_stream_parallel(const AnyAccel& accel, std::span<const Ray> rays, std::span<std::uint8_t> occluded,

@@ -64,6 +64,8 @@ const std::vector<std::string> kColumns = {"scene",
                                            "paired_over_scalar",
                                            "paired_over_bvh",
                                            "paired_over_embree",
+                                           "paired_over_embree_best",
+                                           "paired_over_closest",
                                            "sweep_parameter",
                                            "sweep_value",
                                            "note"};
@@ -192,6 +194,17 @@ std::pair<std::size_t, std::string> paired_rows(const std::string& options, cons
     return {paired, run.out};
 }
 
+/// Built without Embree, an option that needs it must be refused with `expected` on stderr; true
+/// then (the caller has nothing more to check).
+bool refused_without_embree(const std::string& option, const std::string& expected) {
+    if (trident::bench::kHaveEmbree) return false;
+    const BenchRun run = run_bench(kTiny + option);
+    CHECK(run.exit_code != 0);
+    CHECK(run.err.find(expected) != std::string::npos);
+    MESSAGE("built without Embree: " << option << " is refused");
+    return true;
+}
+
 TEST_CASE("--scaling times each render of a row at more than one thread again on one thread") {
     const auto [paired, out] =
         paired_rows("--accel bvh --simd scalar --threads 1,2 --scaling", "speedup_over_one_thread",
@@ -228,18 +241,75 @@ TEST_CASE("--paired times each primary row against the same structure's scalar r
 }
 
 TEST_CASE("--paired embree times each of our primary rows against Embree's call of the same width") {
-    if (!trident::bench::kHaveEmbree) {
-        const BenchRun run = run_bench(kTiny + "--paired embree");
-        CHECK(run.exit_code != 0);
-        CHECK(run.err.find("--paired embree: this binary was built without Embree 3") != std::string::npos);
-        MESSAGE("built without Embree: --paired embree is refused");
-        return;
-    }
+    if (refused_without_embree("--paired embree", "--paired embree: this binary was built without Embree 3")) return;
     const auto [paired, out] =
         paired_rows("--accel bvh --simd scalar,simd4 --threads 1 --embree 4 --paired embree", "paired_over_embree",
                     [](const nlohmann::json& row) { return row.at("structure") != "embree"; });
     CHECK(paired == 2);
     CHECK(out.find("BVH x Embree") != std::string::npos);
+}
+
+TEST_CASE("--paired embree pairs shadow and diffuse rows too, and primary rows with Embree's best") {
+    if (!trident::bench::kHaveEmbree) {
+        MESSAGE("built without Embree: no Embree partner");
+        return;
+    }
+    const std::string options =
+        "--accel bvh,kdtree --simd scalar,simd4 --rays primary,shadow,diffuse --threads 1 --embree none "
+        "--paired embree";
+    // Every row of ours, of every ray kind, against Embree's call of the same width on the same rays.
+    const auto [paired, out] = paired_rows(options, "paired_over_embree", [](const nlohmann::json&) { return true; });
+    CHECK(paired == 12);  // 2 structures x 2 traversals x 3 ray kinds
+    CHECK(out.find("Paired speed ratios") != std::string::npos);
+    // Embree's best (the faster of rtcIntersect16 and its stream) is about primary rays only.
+    [[maybe_unused]] const auto [best, best_out] = paired_rows(
+        options, "paired_over_embree_best", [](const nlohmann::json& row) { return row.at("rays") == "primary"; });
+    CHECK(best == 4);
+    CHECK(best_out.find("x Embree best") != std::string::npos);
+}
+
+TEST_CASE("--paired closest times each shadow row against the closest hit of the same rays") {
+    const auto [paired, out] = paired_rows(
+        "--accel bvh,octree --simd scalar,simd4 --rays primary,shadow,diffuse --threads 1 --embree none "
+        "--paired closest",
+        "paired_over_closest", [](const nlohmann::json& row) { return row.at("rays") == "shadow"; });
+    CHECK(paired == 4);  // 2 structures x 2 traversals
+    CHECK(out.find("x closest") != std::string::npos);
+    for (const char* other : {"paired_over_scalar", "paired_over_bvh", "paired_over_embree"}) {
+        CAPTURE(other);
+        [[maybe_unused]] const auto [none, none_out] =
+            paired_rows("--accel bvh --rays shadow --threads 1 --embree none --paired closest", other,
+                        [](const nlohmann::json&) { return false; });
+        CHECK(none == 0);
+    }
+}
+
+TEST_CASE("--embree stream adds Embree's rtcIntersect1M row on primary rays, as exact as its packets") {
+    if (refused_without_embree("--embree stream", "--embree: this binary was built without Embree 3")) return;
+    const fs::path json_path = scratch_dir() / "stream.json";
+    // 37x21: the image's edge cuts the 8x8 blocks on both sides.
+    const BenchRun run = run_bench(
+        "--only teapot --width 37 --height 21 --repeats 1 --quiet --accel brute --threads 1 --reference brute "
+        "--rays primary,shadow --embree 16,stream --embree-isa avx2 --json " +
+        json_path.string());
+    INFO(run.err);
+    REQUIRE(run.exit_code == 0);
+    const auto json = nlohmann::json::parse(trident::testing::read_text(json_path));
+    CHECK(json.at("embree_isa") == "avx2");
+    CHECK(json.at("embree_settings").get<std::string>().find("max_isa=avx2") != std::string::npos);
+    std::vector<std::string> embree_rows;
+    for (const auto& row : rows_of(json, "embree")) {
+        CAPTURE(row.dump());
+        embree_rows.push_back(row.at("rays").get<std::string>() + " " + row.at("traversal").get<std::string>());
+        CHECK(row.at("note").get<std::string>().find("max_isa=avx2") != std::string::npos);
+        if (row.at("rays") != "primary") continue;
+        CHECK(row.at("hit_miss_share").get<double>() < 1e-3);  // against the brute force: the same hits
+        CHECK(row.at("triangle_share").get<double>() < 1e-3);
+    }
+    // The stream row is for primary rays only; shadow rays have their rtcOccluded16 row.
+    CHECK(embree_rows ==
+          std::vector<std::string>{"primary rtcIntersect16", "primary stream8x8", "shadow rtcOccluded16"});
+    CHECK(run.out.find("stream8x8") != std::string::npos);
 }
 
 TEST_CASE("the CSV has the column header and as many fields on every row") {
@@ -277,7 +347,7 @@ TEST_CASE("Embree rows trace the same rays and agree with our brute force") {
     }
     CHECK(o.json.at("reference").get<std::string>().find("embree rtcIntersect1") != std::string::npos);
     const auto embree = rows_of(o.json, "embree");
-    REQUIRE(embree.size() == 8);  // rtcIntersect1/4/8/16 at 1 and 2 threads
+    REQUIRE(embree.size() == 10);  // rtcIntersect1/4/8/16 and the stream8x8 at 1 and 2 threads
     for (const auto& row : embree) {
         CAPTURE(row.dump());
         CHECK(row.at("note").get<std::string>().find("RTC_BUILD_QUALITY_HIGH") != std::string::npos);

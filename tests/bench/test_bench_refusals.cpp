@@ -54,7 +54,11 @@ TEST_CASE("bad options give one line naming the option and a non-zero exit") {
         {"--threads 0", "--threads 0"},
         {"--embree 3", "--embree"},  // "--embree 3: expected ..." or, built without Embree, "--embree: ..."
         {"--embree-quality best", "--embree-quality"},
-        {"--paired nothing", "--paired nothing: expected scalar, bvh or embree"},
+        {"--paired nothing", "--paired nothing: expected scalar, bvh, embree or closest"},
+        {"--paired closest", "--paired closest: pairs shadow rows only; add shadow to --rays"},
+        {"--paired closest --rays primary,diffuse", "--paired closest: pairs shadow rows only"},
+        {"--embree 1,stream,32", "--embree"},   // "--embree 32: expected ..." or, built without Embree, "--embree: ..."
+        {"--embree-isa sse3", "--embree-isa"},  // "--embree-isa sse3: expected ..." or "--embree-isa: ... without"
         {"--reference nothing", "--reference nothing"},
         {"--reference-hits /no/such/hits", "/no/such/hits"},
         {"--sweep nothing", "--sweep nothing: unknown sweep"},
@@ -67,6 +71,21 @@ TEST_CASE("bad options give one line naming the option and a non-zero exit") {
     for (const auto& c : cases) {
         CAPTURE(c.args);
         check_refused(run_bench(c.args + " --quiet"), c.expected);
+    }
+}
+
+TEST_CASE("an Embree ISA this CPU does not run is refused as such") {
+    if (!trident::bench::kHaveEmbree) return;
+    for (trident::bench::EmbreeIsa isa : trident::bench::kAllEmbreeIsas) {
+        const std::string name = trident::bench::to_string(isa);
+        CAPTURE(name);
+        if (!trident::bench::cpu_runs(isa))
+            check_refused(run_bench("--embree-isa " + name), "--embree-isa " + name + ": this CPU does not run it");
+        else  // Embree takes the limit in its device config and traces with it
+            CHECK(run_bench("--only teapot --accel bvh --width 8 --height 8 --repeats 1 --threads 1 --quiet "
+                            "--embree 1 --embree-isa " +
+                            name)
+                      .exit_code == 0);
     }
 }
 
