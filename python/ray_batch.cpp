@@ -103,51 +103,50 @@ StreamTraversal stream_traversal(BatchTraversal traversal) {
     return {traversal.width, PacketGrouping::in_order, SlabTest::robust};
 }
 
-template <class Out>
-void check_size(const RayArrays& rays, std::span<Out> out) {
+/// Each chunk's rays traced by trace(rays, results) into one result per ray (trace may change the
+/// rays), the results then written to the rays' positions in `out`.
+template <class Result, class TraceChunk>
+void trace_chunks(const RayArrays& rays, std::span<Result> out, BatchTraversal traversal, TraceChunk&& trace) {
     if (out.size() != rays.size()) throw std::invalid_argument("ray batch: one result per ray is needed");
+    for_each_chunk(rays, traversal, [&](Chunk& chunk) {
+        thread_local std::vector<Result> results;
+        results.assign(chunk.rays.size(), Result{});
+        trace(chunk.rays, std::span<Result>(results));
+        for (std::size_t k = 0; k < chunk.index.size(); ++k) out[chunk.index[k]] = results[k];
+    });
 }
 
 }  // namespace
 
 void intersect_batch(const AnyAccel& accel, const RayArrays& rays, std::span<Hit> hits, BatchTraversal traversal) {
-    check_size(rays, hits);
-    for_each_chunk(rays, traversal, [&](Chunk& chunk) {
-        std::vector<Hit> chunk_hits(chunk.rays.size());
-        intersect_stream(accel, chunk.rays, chunk_hits, stream_traversal(traversal));
-        for (std::size_t k = 0; k < chunk.index.size(); ++k) hits[chunk.index[k]] = chunk_hits[k];
+    trace_chunks(rays, hits, traversal, [&](const std::vector<Ray>& chunk_rays, std::span<Hit> chunk_hits) {
+        intersect_stream(accel, chunk_rays, chunk_hits, stream_traversal(traversal));
     });
 }
 
 void occluded_batch(const AnyAccel& accel, const RayArrays& rays, std::span<std::uint8_t> occluded,
                     BatchTraversal traversal) {
-    check_size(rays, occluded);
-    for_each_chunk(rays, traversal, [&](Chunk& chunk) {
-        std::vector<std::uint8_t> chunk_occluded(chunk.rays.size());
-        occlude_stream(accel, chunk.rays, chunk_occluded, stream_traversal(traversal));
-        for (std::size_t k = 0; k < chunk.index.size(); ++k) occluded[chunk.index[k]] = chunk_occluded[k];
-    });
+    trace_chunks(rays, occluded, traversal,
+                 [&](const std::vector<Ray>& chunk_rays, std::span<std::uint8_t> chunk_occluded) {
+                     occlude_stream(accel, chunk_rays, chunk_occluded, stream_traversal(traversal));
+                 });
 }
 
 void count_hits_batch(const AnyAccel& accel, const RayArrays& rays, std::span<std::int32_t> counts,
                       BatchTraversal traversal) {
-    check_size(rays, counts);
-    for_each_chunk(rays, traversal, [&](Chunk& chunk) {
-        std::vector<Hit> chunk_hits(chunk.rays.size());
-        std::vector<std::int32_t> chunk_counts(chunk.rays.size(), 0);
+    trace_chunks(rays, counts, traversal, [&](std::vector<Ray>& chunk_rays, std::span<std::int32_t> chunk_counts) {
+        std::vector<Hit> hits(chunk_rays.size());
         // Each round's t is strictly past the last (a hit needs tmin <= t), so a ray ends after at
         // most as many rounds as there are triangles; a ray that missed gets tmin = +inf and is skipped.
         for (bool any_hit = true; any_hit;) {
             any_hit = false;
-            intersect_stream(accel, chunk.rays, chunk_hits, stream_traversal(traversal));
-            for (std::size_t k = 0; k < chunk.rays.size(); ++k) {
-                const Hit& hit = chunk_hits[k];
-                any_hit |= hit.is_hit();
-                chunk_counts[k] += hit.is_hit() ? 1 : 0;
-                chunk.rays[k].tmin = hit.is_hit() ? std::nextafter(hit.t, kInfinity) : kInfinity;
+            intersect_stream(accel, chunk_rays, hits, stream_traversal(traversal));
+            for (std::size_t k = 0; k < chunk_rays.size(); ++k) {
+                any_hit |= hits[k].is_hit();
+                chunk_counts[k] += hits[k].is_hit() ? 1 : 0;
+                chunk_rays[k].tmin = hits[k].is_hit() ? std::nextafter(hits[k].t, kInfinity) : kInfinity;
             }
         }
-        for (std::size_t k = 0; k < chunk.index.size(); ++k) counts[chunk.index[k]] = chunk_counts[k];
     });
 }
 

@@ -21,6 +21,7 @@
 #include "accel/any_accel.h"
 #include "camera/camera.h"
 #include "ray_batch.h"
+#include "render/hit_buffer.h"
 #include "render/trace.h"
 #include "scene/obj_loader.h"
 #include "scene/scene_error.h"
@@ -465,17 +466,31 @@ py::tuple mesh_arrays(const Mesh& mesh) {
     return py::make_tuple(vertices, triangles);
 }
 
-py::tuple load_obj(const std::filesystem::path& path) {
-    Mesh mesh;
+/// read(path) without the GIL; its error becomes a FileNotFoundError when the file does not exist.
+template <class Read>
+auto read_file(const std::filesystem::path& path, Read&& read) {
     try {
         py::gil_scoped_release release;
-        mesh = trident::load_obj(path);
-    } catch (const SceneError& e) {
+        return read(path);
+    } catch (const std::runtime_error& e) {
         std::error_code ec;
         if (!std::filesystem::exists(path, ec)) throw MissingFile(e.what());
         throw;
     }
-    return mesh_arrays(mesh);
+}
+
+py::tuple load_obj(const std::filesystem::path& path) {
+    return mesh_arrays(read_file(path, [](const auto& p) { return trident::load_obj(p); }));
+}
+
+py::tuple hit_buffer_arrays(const std::filesystem::path& path) {
+    const HitBuffer buffer = read_file(path, [](const auto& p) { return read_hit_buffer(p); });
+    const Shape shape{py::ssize_t(buffer.height), py::ssize_t(buffer.width)};
+    py::array_t<std::int32_t> triangle(shape);
+    py::array_t<float> t(shape);
+    std::copy(buffer.triangle.begin(), buffer.triangle.end(), triangle.mutable_data());
+    std::copy(buffer.t.begin(), buffer.t.end(), t.mutable_data());
+    return py::make_tuple(triangle, t);
 }
 
 py::tuple vec3_tuple(const Vec3f& v) { return py::make_tuple(v.x, v.y, v.z); }
@@ -590,6 +605,10 @@ uses it: a dict of vertices, triangles, camera (eye, target, up, fov_y_deg) and 
           R"(One of the stress suite's closed meshes: sphere (jittered geodesic), cube (tessellated),
 teapot (closed) or asteroid, as (vertices, triangles, interior_centre, interior_radius): every
 point within interior_radius of interior_centre lies inside.)");
+
+    m.def("read_hit_buffer", &hit_buffer_arrays, py::arg("path"),
+          R"(BENCHMARK.md's hit buffer (trident render --dump-hits, trident-bench --dump-hits) as
+(triangle (H, W) int32, -1 on a miss; t (H, W) float32, inf on a miss).)");
 
     m.def("camera_rays", &camera_rays, py::arg("eye"), py::arg("target"), py::arg("up"), py::arg("fov_y_deg"),
           py::arg("width"), py::arg("height"),

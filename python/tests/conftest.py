@@ -30,6 +30,14 @@ def random_rays(count, seed):
     return origins.astype(np.float32), directions.astype(np.float32)
 
 
+def write_obj(path, vertices, triangles):
+    """The mesh as an OBJ file; 9 significant digits give back every float32 exactly."""
+    lines = [f"v {x:.9g} {y:.9g} {z:.9g}" for x, y, z in vertices]
+    lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in triangles]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
 @pytest.fixture(scope="session")
 def soup():
     return triangle_soup(60, seed=5)

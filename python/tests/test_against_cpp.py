@@ -8,17 +8,9 @@ import numpy as np
 import pytest
 
 import trident
-from conftest import BINARY_DIR, SHARED_DIR, STRUCTURES, WIDTHS
+from conftest import BINARY_DIR, SHARED_DIR, STRUCTURES, WIDTHS, write_obj
 
 WIDTH, HEIGHT = 96, 54  # tiles cut at the bottom edge, as 1080 rows are
-
-
-def read_hit_buffer(path):
-    data = path.read_bytes()
-    assert data[:8] == b"RTHITS1\0"
-    width, height = np.frombuffer(data[8:16], "<u4")
-    pixels = np.frombuffer(data[16:], dtype=[("triangle", "<i4"), ("t", "<f4")]).reshape(height, width)
-    return pixels["triangle"], pixels["t"]
 
 
 def render_hits(tmp_path, scene, accel, *extra):
@@ -26,7 +18,7 @@ def render_hits(tmp_path, scene, accel, *extra):
     subprocess.run([str(BINARY_DIR / "trident"), "render", scene, "--accel", accel, "--width", str(WIDTH), "--height",
                     str(HEIGHT), "--mode", "depth", "--output", str(tmp_path / "out.png"), "--dump-hits", str(hits),
                     *extra], check=True, capture_output=True)
-    return read_hit_buffer(hits)
+    return trident.read_hit_buffer(hits)
 
 
 def check_same_hits(tmp_path, scene_argument, vertices, triangles, camera, extra=()):
@@ -53,9 +45,7 @@ def test_builtin_scene_hits_equal_the_renderers(tmp_path, name):
 def test_obj_scene_hits_equal_the_renderers(tmp_path):
     """An OBJ through the project's loader on both sides, with the camera of a manifest."""
     vertices, triangles, _, _ = trident.closed_mesh("teapot")
-    obj = tmp_path / "teapot.obj"
-    lines = [f"v {x:.9g} {y:.9g} {z:.9g}" for x, y, z in vertices] + [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in triangles]
-    obj.write_text("\n".join(lines) + "\n")
+    obj = write_obj(tmp_path / "teapot.obj", vertices, triangles)
     camera = {"eye": [2.5, 2.0, 3.5], "target": [0.0, 0.9, 0.0], "up": [0.0, 1.0, 0.0], "fov_y_deg": 45}
     manifest = tmp_path / "scenes.json"
     manifest.write_text(json.dumps([{"name": "closed_teapot", "file": "teapot.obj", "camera": camera}]))

@@ -92,6 +92,11 @@ def test_rays(scene):
 def test_files(tmp_path):
     with pytest.raises(FileNotFoundError, match="missing.obj: no such file"):
         trident.load_obj(tmp_path / "missing.obj")
+    with pytest.raises(FileNotFoundError, match="missing.hits"):
+        trident.read_hit_buffer(tmp_path / "missing.hits")
+    (tmp_path / "short.hits").write_bytes(b"RTHITS1\0\x02\0\0\0")
+    with pytest.raises(RuntimeError, match="short.hits"):
+        trident.read_hit_buffer(tmp_path / "short.hits")
     bad = tmp_path / "bad.obj"
     bad.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n")
     with pytest.raises(ValueError, match="bad.obj: face 1 references vertex 7, but the file has 3 vertices"):
