@@ -113,7 +113,7 @@ RayInput read_rays(py::handle origins, py::handle directions, double tmin, doubl
         input.shape = leading_shape(input.directions);
         // One origin for every ray (a camera's eye), or one per ray.
         const bool shared_origin = input.origins.ndim() == 1 && input.origins.shape(0) == 3;
-        if (!shared_origin && leading_shape(input.origins) != input.shape) check_last_axis(input.origins, "origins", 3);
+        if (!shared_origin) check_last_axis(input.origins, "origins", 3);
         if (!shared_origin && leading_shape(input.origins) != input.shape)
             throw py::value_error(fmt::format("origins: shape {} matches neither the directions' {} nor (3,)",
                                               shape_text(input.origins), shape_text(input.directions)));
@@ -144,8 +144,8 @@ BatchTraversal read_traversal(const AnyAccel& accel, py::handle simd, int thread
     return {*width, threads};
 }
 
-/// A numpy array of `shape` over `bytes` of `base`'s memory, elements `stride` bytes apart (a
-/// field of an array of structs), kept alive by `base`.
+/// A read-only numpy array of `shape` over `base`'s memory from `data` on, elements
+/// `element_bytes` apart (a field of an array of structs), kept alive by `base`.
 py::array strided_view(const py::array& base, const py::dtype& dtype, const Shape& shape, std::size_t element_bytes,
                        const void* data) {
     Shape strides(shape.size());
@@ -154,7 +154,9 @@ py::array strided_view(const py::array& base, const py::dtype& dtype, const Shap
         strides[i] = stride;
         stride *= shape[i];
     }
-    return py::array(dtype, shape, strides, data, base);
+    py::array view(dtype, shape, strides, data, base);
+    view.attr("setflags")(py::arg("write") = false);  // Hits::normal() reads the triangles back
+    return view;
 }
 
 // ---- Results -----------------------------------------------------------------------------------
@@ -325,7 +327,9 @@ Mesh read_mesh(py::handle vertices_object, py::handle triangles_object) {
 
     const py::array triangles = numeric_array(triangles_object, "triangles", "iu");
     check_last_axis(triangles, "triangles", 3, true);
-    const bool in_place = triangles.itemsize() == 4 && (triangles.flags() & py::array::c_style);
+    const bool in_place = (py::isinstance<py::array_t<std::int32_t>>(triangles) ||
+                           py::isinstance<py::array_t<std::uint32_t>>(triangles)) &&
+                          (triangles.flags() & py::array::c_style);
     if (in_place) {
         // int32 read as uint32: a negative index becomes one beyond any vertex and is reported so.
         const auto* t = static_cast<const std::uint32_t*>(triangles.data());
@@ -333,8 +337,9 @@ Mesh read_mesh(py::handle vertices_object, py::handle triangles_object) {
     } else {
         const auto wide = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(triangles);
         const std::int64_t* t = wide.data();
+        constexpr std::uint32_t kBeyondAnyVertex = std::numeric_limits<std::uint32_t>::max();
         auto index = [](std::int64_t i) {
-            return i < 0 || i > std::int64_t(kNoTriangle) ? kNoTriangle : std::uint32_t(i);
+            return i < 0 || i > std::int64_t(kBeyondAnyVertex) ? kBeyondAnyVertex : std::uint32_t(i);
         };
         for (py::ssize_t i = 0; i < wide.shape(0); ++i)
             mesh.add_triangle(index(t[3 * i]), index(t[3 * i + 1]), index(t[3 * i + 2]));
@@ -442,7 +447,8 @@ private:
         }
         // What a builder had to give up (the octree's reference guard), so nobody takes a truncated
         // tree for the real thing.
-        if (!warning.empty()) PyErr_WarnEx(PyExc_RuntimeWarning, warning.c_str(), 1);
+        if (!warning.empty() && PyErr_WarnEx(PyExc_RuntimeWarning, warning.c_str(), 1) < 0)
+            throw py::error_already_set();
         return accel;
     }
 

@@ -128,6 +128,8 @@ def test_one_origin_for_many_rays_and_a_single_ray(soup_case):
     single = scene.intersect(np.concatenate([eye, directions[7]]))
     assert single.t.shape == () and single.t == each.t[7] and single.triangle == each.triangle[7]
     assert sorted(single.keys()) == ["normal", "t", "triangle", "u", "v"] and single["t"] == single.t
+    with pytest.raises(ValueError, match="read-only"):  # the normals are made from the triangles
+        shared.triangle[0] = 10**6
 
 
 @pytest.mark.parametrize("name", ["sphere", "teapot", "asteroid", "cube"])
