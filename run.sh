@@ -2,6 +2,7 @@
 # trident's one entry point for a fresh Debian 12 machine (run as root, or with sudo available):
 #   bash run.sh bench   install what is missing, build, run the benchmark on the built-in scenes
 #   bash run.sh test    install what is missing, build (Release and ASan+UBSan), run every test
+#                       (the Python module's pytest with Debian's /usr/bin/python3, in the Release build)
 # Extra arguments after the command are passed to the benchmark (bench) or to ctest (test).
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -12,7 +13,8 @@ jobs="$(nproc 2>/dev/null || echo 2)"
 
 packages=(build-essential cmake ninja-build pkg-config git
           libxsimd-dev libtbb-dev libtinyobjloader-dev libstb-dev doctest-dev
-          libcli11-dev nlohmann-json3-dev libfmt-dev libembree-dev python3 python3-matplotlib)
+          libcli11-dev nlohmann-json3-dev libfmt-dev libembree-dev python3 python3-matplotlib
+          pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-dev)
 
 install_missing() {
     local missing=()

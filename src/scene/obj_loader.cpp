@@ -65,7 +65,8 @@ void validate_mesh(const Mesh& mesh, const std::string& what) {
     for (std::size_t i = 0; i < mesh.triangle_count(); ++i) {
         const IndexTriple& t = mesh.triangles[i];
         if (t.v0 >= n || t.v1 >= n || t.v2 >= n)
-            throw SceneError(fmt::format("{}: triangle {} references a vertex beyond the {} vertices", what, i + 1, n));
+            throw SceneIndexError(
+                fmt::format("{}: triangle {} references a vertex beyond the {} vertices", what, i + 1, n));
     }
 }
 

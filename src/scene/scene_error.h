@@ -11,4 +11,11 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+/// A triangle that references a vertex the mesh does not have: its own type so that callers which
+/// map errors to kinds (the Python module's IndexError) need not read the message.
+class SceneIndexError : public SceneError {
+public:
+    using SceneError::SceneError;
+};
+
 }  // namespace trident
