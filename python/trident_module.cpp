@@ -254,7 +254,8 @@ std::vector<Keyword<BvhOptions>> bvh_keywords() {
         keyword("all_axes", &BvhOptions::all_axes),
         keyword("traversal_cost", &BvhOptions::traversal_cost),
         keyword("intersection_cost", &BvhOptions::intersection_cost),
-        keyword("max_leaf_size", &BvhOptions::max_leaf_size)};
+        keyword("max_leaf_size", &BvhOptions::max_leaf_size),
+        keyword("width", &BvhOptions::width)};
 }
 
 std::vector<Keyword<KdTreeOptions>> kdtree_keywords() {
@@ -305,7 +306,8 @@ AccelOptions read_accel_options(AccelKind kind, const py::kwargs& given) {
             store_keywords<BvhOptions>(given, {}, options.bvh, "brute");
             break;
         case AccelKind::bvh:
-            store_keywords(given, bvh_keywords(), options.bvh, "bvh");
+        case AccelKind::bvh2:
+            store_keywords(given, bvh_keywords(), options.bvh, to_string(kind));
             break;
         case AccelKind::kdtree:
             store_keywords(given, kdtree_keywords(), options.kdtree, "kdtree");
@@ -641,10 +643,11 @@ single precision exactly as the benchmark and trident's renderer compute them.)"
              py::arg("triangles"), py::arg("accel") = "bvh",
              R"(Builds an acceleration structure over a triangle mesh.
 
-vertices (V, 3) and triangles (T, 3) of vertex indices; accel is "bvh", "kdtree", "octree" or
-"brute". Keywords set the structure's build options:
-  bvh:    builder ("binned" or "sweep"), bin_count, large_node_bin_count, all_axes,
-          traversal_cost, intersection_cost, max_leaf_size
+vertices (V, 3) and triangles (T, 3) of vertex indices; accel is "bvh" (the wide BVH), "bvh2"
+(the binary one), "kdtree", "octree" or "brute". Keywords set the structure's build options:
+  bvh:    width (children per node: 2, 4 or 8, default 8), builder ("binned" or "sweep"),
+          bin_count, large_node_bin_count, all_axes, traversal_cost, intersection_cost,
+          max_leaf_size (bvh2 takes the same)
   kdtree: intersection_cost, traversal_cost, empty_bonus, max_depth, depth_offset,
           max_bad_refines, leaf_triangles, perfect_splits
   octree: max_depth, min_primitives, overlap ("triangle" or "box"), max_references

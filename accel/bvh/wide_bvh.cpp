@@ -11,8 +11,8 @@ template <std::size_t Width, std::size_t BlockSize>
 WideBvh<Width, BlockSize> WideBvh<Width, BlockSize>::build(const Mesh& mesh, const BvhOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     const Bvh binary = Bvh::build(mesh, options);
-    bvh::WideArrays<Width, BlockSize> wide =
-        bvh::collapse_to_wide<Width, BlockSize>(binary.nodes(), binary.leaf_triangles(), binary.leaf_triangle_ids());
+    bvh::WideArrays<Width, BlockSize> wide = bvh::collapse_to_wide<Width, BlockSize>(
+        binary.nodes(), binary.leaf_triangles(), binary.leaf_triangle_ids(), std::uint32_t(options.max_leaf_size));
     const double build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
     WideBvh result;

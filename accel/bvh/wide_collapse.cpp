@@ -33,8 +33,9 @@ constexpr double kNodeStepCost = 1.0, kBlockTestCost = 1.0;
 /// as one leaf or as interior levels. A binary level inside a wide node costs the node step shared
 /// among the Width - 1 binary splits a full node holds.
 template <std::size_t Width, std::size_t BlockSize>
-BinaryFacts decide_leaves(std::span<const BvhNode> nodes) {
-    constexpr std::uint32_t kLeafLimit = std::min<std::uint32_t>(2 * BlockSize, ChildRef::kMaxLeafTriangles);
+BinaryFacts decide_leaves(std::span<const BvhNode> nodes, std::uint32_t leaf_limit) {
+    const std::uint32_t largest_leaf =
+        std::min<std::uint32_t>({2 * BlockSize, leaf_limit, ChildRef::kMaxLeafTriangles});
     constexpr double kLevelCost = kNodeStepCost / double(Width - 1);
     BinaryFacts facts{std::vector<std::uint32_t>(nodes.size()), std::vector<char>(nodes.size())};
     std::vector<double> cost(nodes.size());
@@ -53,7 +54,7 @@ BinaryFacts decide_leaves(std::span<const BvhNode> nodes) {
         facts.triangles[i] = facts.triangles[left] + facts.triangles[right];
         const double descend = area * kLevelCost + cost[left] + cost[right];
         const double as_leaf = area * kBlockTestCost * double((facts.triangles[i] + BlockSize - 1) / BlockSize);
-        facts.is_leaf[i] = facts.triangles[i] <= kLeafLimit && as_leaf <= descend;
+        facts.is_leaf[i] = facts.triangles[i] <= largest_leaf && as_leaf <= descend;
         cost[i] = facts.is_leaf[i] ? as_leaf : descend;
     }
     return facts;
@@ -103,11 +104,11 @@ std::uint32_t first_triangle_of(std::span<const BvhNode> nodes, std::uint32_t i)
 
 template <std::size_t Width, std::size_t BlockSize>
 WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, std::span<const Triangle> triangles,
-                                              std::span<const TriangleId> ids) {
+                                              std::span<const TriangleId> ids, std::uint32_t leaf_limit) {
     static_assert(Width >= 2 && Width <= 16 && BlockSize >= 1);
     WideArrays<Width, BlockSize> out;
     if (nodes.empty()) return out;
-    const BinaryFacts facts = decide_leaves<Width, BlockSize>(nodes);
+    const BinaryFacts facts = decide_leaves<Width, BlockSize>(nodes, leaf_limit);
     const double root_area = area_of(nodes[0].bounds);
     const auto weight = [&](std::uint32_t binary) {
         return root_area > 0.0 ? area_of(nodes[binary].bounds) / root_area : 1.0;
@@ -202,8 +203,8 @@ WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, st
 }
 
 template WideArrays<4, 4> collapse_to_wide<4, 4>(std::span<const BvhNode>, std::span<const Triangle>,
-                                                 std::span<const TriangleId>);
+                                                 std::span<const TriangleId>, std::uint32_t);
 template WideArrays<8, 4> collapse_to_wide<8, 4>(std::span<const BvhNode>, std::span<const Triangle>,
-                                                 std::span<const TriangleId>);
+                                                 std::span<const TriangleId>, std::uint32_t);
 
 }  // namespace trident::bvh

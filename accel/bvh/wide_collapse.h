@@ -10,6 +10,7 @@
 // among their children that are not leaves, the one of largest surface area, until Width are held
 // (Embree's and the 2026-11-25 prototype's rule; the SAH gains most where the rays are most likely).
 #include <cstddef>
+#include <cstdint>
 #include <span>
 
 #include "accel/bvh/bvh_node.h"
@@ -32,10 +33,12 @@ struct WideArrays {
 };
 
 /// The wide tree over the binary tree `nodes` (depth-first, root first) whose leaves cover
-/// `triangles` and `ids` in leaf order. Blocks are filled in parallel; the result does not depend
-/// on the number of threads. An empty tree gives no nodes.
+/// `triangles` and `ids` in leaf order. A leaf gathers a binary subtree of at most
+/// min(leaf_limit, 2 * BlockSize) triangles (a binary leaf larger than that stays one leaf).
+/// Blocks are filled in parallel; the result does not depend on the number of threads. An empty
+/// tree gives no nodes.
 template <std::size_t Width, std::size_t BlockSize>
 WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, std::span<const Triangle> triangles,
-                                              std::span<const TriangleId> ids);
+                                              std::span<const TriangleId> ids, std::uint32_t leaf_limit);
 
 }  // namespace trident::bvh

@@ -10,7 +10,7 @@ import trident
 REPO = pathlib.Path(__file__).resolve().parents[2]
 BINARY_DIR = pathlib.Path(os.environ.get("TRIDENT_BINARY_DIR", REPO / "build"))
 SHARED_DIR = pathlib.Path(os.environ.get("TRIDENT_SHARED_DIR", REPO.parent / "shared"))
-STRUCTURES = ["bvh", "kdtree", "octree", "brute"]
+STRUCTURES = ["bvh", "bvh2", "kdtree", "octree", "brute"]
 WIDTHS = trident.simd_widths()
 
 

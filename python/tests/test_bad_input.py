@@ -45,6 +45,8 @@ def test_structure_and_options(soup):
         trident.Scene(*soup, accel="sah")
     with pytest.raises(TypeError, match=r"unknown option max_depth \(options: builder, bin_count"):
         trident.Scene(*soup, accel="bvh", max_depth=3)
+    with pytest.raises(ValueError):
+        trident.Scene(*soup, accel="bvh", width=3)
     with pytest.raises(TypeError, match="unknown option bin_count \\(options: none\\)"):
         trident.Scene(*soup, accel="brute", bin_count=8)
     with pytest.raises(ValueError, match=r"bin_count 2 is outside \[8, 64\]"):

@@ -156,11 +156,14 @@ def test_stats_describe_the_structure(soup):
     vertices, triangles = soup
     for accel in STRUCTURES:
         stats = trident.Scene(vertices, triangles, accel=accel).stats
-        assert stats["structure"] == accel and stats["triangles"] == 60
+        # The stats name the tree itself: the wide BVH by its width (bvh8), the binary one bvh2.
+        assert stats["structure"] == {"bvh": "bvh8"}.get(accel, accel) and stats["triangles"] == 60
         assert stats["bytes"] > 0 and stats["bytes_per_triangle"] == pytest.approx(stats["bytes"] / 60)
         for key in ("build_ms", "nodes", "leaves", "depth", "sah"):
             assert key in stats
     assert trident.Scene(vertices, triangles, accel="octree", max_depth=2).stats["depth"] <= 2
+    assert trident.Scene(vertices, triangles, width=4).stats["structure"] == "bvh4"
+    assert trident.Scene(vertices, triangles, width=2).stats["structure"] == "bvh2"
     sweep = trident.Scene(vertices, triangles, builder="sweep", max_leaf_size=2).stats
     assert sweep["max_leaf_size"] <= 2
     kd = trident.Scene(vertices, triangles, accel="kdtree", max_depth=3, perfect_splits=True).stats
