@@ -35,7 +35,12 @@ case "${1:-}" in
         primary_size=(--width 160 --height 90) secondary_size=(--width 160 --height 90)
         placeholder="Made by \`bash bench/reproduce.sh --quick\` (Teapot and Sponza at 160x90, one timed run each)."
         ;;
-    *) echo "reproduce.sh: unknown option '$1' (expected nothing or --quick)" >&2; exit 2 ;;
+    --only)
+        # The full settings on a few scenes, for a run set that must fit a short window.
+        only=(--only "${2:?--only needs a comma-separated list of scenes}")
+        placeholder="Made by \`bash bench/reproduce.sh --only $2\`: the full settings on these scenes only."
+        ;;
+    *) echo "reproduce.sh: unknown option '$1' (expected nothing, --quick or --only SCENES)" >&2; exit 2 ;;
 esac
 if [[ ! -f $scenes ]]; then
     echo "reproduce.sh: $scenes is missing: ../shared must sit beside the repository" >&2
