@@ -158,43 +158,6 @@ void for_each_wide_tree(const Mesh& mesh, const BvhOptions& options, Body&& body
     body(WideBvh<8, 4>::build(mesh, options));
 }
 
-/// A lattice of unit right triangles in the planes x = i, y = j, z = k: boxes with integer planes,
-/// triangles sharing edges, rays hitting several at one t.
-Mesh axis_lattice() {
-    Mesh mesh;
-    auto tri = [&](Vec3f p, Vec3f q, Vec3f r) {
-        mesh.add_triangle(mesh.add_vertex(p), mesh.add_vertex(q), mesh.add_vertex(r));
-    };
-    for (int i = 0; i <= 3; ++i)
-        for (int j = 0; j < 3; ++j)
-            for (int k = 0; k < 3; ++k) {
-                const float a = float(i), b = float(j), c = float(k);
-                tri({a, b, c}, {a, b + 1, c}, {a, b, c + 1});
-                tri({b, a, c}, {b, a, c + 1}, {b + 1, a, c});
-                tri({b, c, a}, {b + 1, c, a}, {b, c + 1, a});
-            }
-    return mesh;
-}
-
-/// Axis-parallel rays starting on the lattice's planes, with +0 and -0 in the other components.
-std::vector<Ray> rays_on_lattice_planes() {
-    std::vector<Ray> rays;
-    for (int axis = 0; axis < 3; ++axis)
-        for (float sign : {1.0f, -1.0f})
-            for (float zero : {0.0f, -0.0f})
-                for (int u = 0; u <= 6; ++u)
-                    for (int v = 0; v <= 6; ++v) {
-                        Ray ray;
-                        ray.dir = Vec3f{zero, zero, zero};
-                        ray.dir[axis] = sign;
-                        ray.origin[axis] = sign > 0 ? -1.0f : 4.0f;
-                        ray.origin[(axis + 1) % 3] = 0.5f * float(u);
-                        ray.origin[(axis + 2) % 3] = 0.5f * float(v);
-                        rays.push_back(ray);
-                    }
-    return rays;
-}
-
 }  // namespace
 
 TEST_CASE("the wide layout holds every triangle once, inside its boxes, for every builder setting") {
