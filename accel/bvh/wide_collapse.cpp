@@ -117,9 +117,8 @@ WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, st
     // Plan serially (a few operations a wide node), children of a node numbered side by side.
     std::vector<PlannedNode<Width>> planned;
     std::vector<PlannedLeaf> leaves;
-    std::vector<ChildRef> refs;  // per planned node, Width slots
+    std::vector<ChildRef> refs(Width, ChildRef::empty());  // per planned node, Width slots
     std::uint32_t block_count = 0;
-    std::vector<std::uint32_t> pending{0};  // planned nodes whose children are still to plan
     planned.push_back({0, 0, {}, 0});
     // The root: a binary leaf (or a root that is one wide leaf) becomes the single child of node 0.
     if (facts.is_leaf[0]) {
@@ -135,7 +134,6 @@ WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, st
         open_largest_children(planned[next], facts, nodes);
         const PlannedNode<Width> node = planned[next];  // a copy: planning its children grows `planned`
         out.child_slots_used += node.child_count;
-        refs.resize(planned.size() * Width, ChildRef::empty());
         for (std::uint32_t k = 0; k < node.child_count; ++k) {
             const std::uint32_t b = node.children[k];
             if (facts.is_leaf[b]) {
