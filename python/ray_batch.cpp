@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <type_traits>
 #include <vector>
 
 #include "render/image_tiles.h"
@@ -21,6 +22,10 @@ Ray RayArrays::ray(std::size_t i) const {
     const float* o = origins + i * origin_stride;
     const float* d = directions + i * direction_stride;
     return Ray{{o[0], o[1], o[2]}, {d[0], d[1], d[2]}, tmin, tmax};
+}
+
+StridedRays RayArrays::strided() const {
+    return {origins, origin_stride, directions, direction_stride, tmin, tmax};
 }
 
 namespace {
@@ -38,9 +43,11 @@ std::size_t chunk_count(const RayArrays& rays) {
     return ceil_div(rays.size(), kListChunkRays);
 }
 
-/// The rays of one chunk in the order the stream packs them, read out of the caller's arrays.
+/// The rays of one chunk: their positions in the batch in the order the stream packs them and, when
+/// they are not traced in place (`gathered`), copied out of the caller's arrays.
 struct Chunk {
-    std::vector<std::size_t> index;  // position of each ray in the batch
+    std::vector<std::size_t> index;
+    bool gathered = false;
     std::vector<Ray> rays;
 };
 
@@ -69,25 +76,35 @@ bool is_traceable(const Ray& ray) {
     return is_finite(ray.origin) && is_finite(ray.dir) && dot(ray.dir, ray.dir) > 0.0f;
 }
 
-/// per_chunk(Chunk&) over every chunk on `traversal.threads` threads. A ray that cannot be traced
-/// gets tmax = -inf, which the stream skips, and the first of them is reported once all are done.
+/// per_chunk(Chunk&) over every chunk on `traversal.threads` threads. With `gather`, a chunk whose
+/// rays are all traceable is traced in place (chunk.gathered); otherwise its rays are copied, and
+/// one that cannot be traced gets tmax = -inf, which the stream skips. The first such ray is
+/// reported once all are done.
 template <class PerChunk>
-void for_each_chunk(const RayArrays& rays, BatchTraversal traversal, PerChunk&& per_chunk) {
+void for_each_chunk(const RayArrays& rays, BatchTraversal traversal, bool gather, PerChunk&& per_chunk) {
     std::atomic<std::size_t> first_bad{kNoRay};
     const int threads = traversal.threads > 0 ? traversal.threads : tbb::info::default_concurrency();
+    gather = gather && rays.tmin < rays.tmax;
     tbb::task_arena arena(threads);
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunk_count(rays)), [&](const auto& range) {
             Chunk chunk;
             for (std::size_t c = range.begin(); c != range.end(); ++c) {
                 order_chunk(rays, lane_count(traversal.width), c, chunk.index);
-                chunk.rays.resize(chunk.index.size());
-                for (std::size_t k = 0; k < chunk.index.size(); ++k) {
-                    chunk.rays[k] = rays.ray(chunk.index[k]);
-                    if (is_traceable(chunk.rays[k])) continue;
-                    chunk.rays[k].tmax = -kInfinity;
+                bool all_traceable = true;
+                for (const std::size_t i : chunk.index) {
+                    if (is_traceable(rays.ray(i))) continue;
+                    all_traceable = false;
                     std::size_t seen = first_bad.load();
-                    while (chunk.index[k] < seen && !first_bad.compare_exchange_weak(seen, chunk.index[k])) {
+                    while (i < seen && !first_bad.compare_exchange_weak(seen, i)) {
+                    }
+                }
+                chunk.gathered = gather && all_traceable;
+                if (!chunk.gathered) {
+                    chunk.rays.resize(chunk.index.size());
+                    for (std::size_t k = 0; k < chunk.index.size(); ++k) {
+                        chunk.rays[k] = rays.ray(chunk.index[k]);
+                        if (!is_traceable(chunk.rays[k])) chunk.rays[k].tmax = -kInfinity;
                     }
                 }
                 per_chunk(chunk);
@@ -103,15 +120,22 @@ StreamTraversal stream_traversal(BatchTraversal traversal) {
     return {traversal.width, PacketGrouping::in_order, SlabTest::robust};
 }
 
-/// Each chunk's rays traced by trace(rays, results) into one result per ray (trace may change the
-/// rays), the results then written to the rays' positions in `out`.
-template <class Result, class TraceChunk>
-void trace_chunks(const RayArrays& rays, std::span<Result> out, BatchTraversal traversal, TraceChunk&& trace) {
+/// Each chunk's rays traced into one result per ray at the rays' positions in `out`: in place by
+/// trace_gathered(strided rays, positions, out) where the chunk allows it, else by
+/// trace_list(rays, results) on a copy (trace_list may change the rays), the results then
+/// written to the rays' positions. Without trace_gathered every chunk is copied.
+template <class Result, class TraceList, class TraceGathered = std::nullptr_t>
+void trace_chunks(const RayArrays& rays, std::span<Result> out, BatchTraversal traversal, TraceList&& trace_list,
+                  TraceGathered&& trace_gathered = nullptr) {
     if (out.size() != rays.size()) throw std::invalid_argument("ray batch: one result per ray is needed");
-    for_each_chunk(rays, traversal, [&](Chunk& chunk) {
+    constexpr bool kGather = !std::is_same_v<std::decay_t<TraceGathered>, std::nullptr_t>;
+    for_each_chunk(rays, traversal, kGather, [&](Chunk& chunk) {
+        if constexpr (kGather) {
+            if (chunk.gathered) return trace_gathered(rays.strided(), std::span<const std::size_t>(chunk.index), out);
+        }
         thread_local std::vector<Result> results;
         results.assign(chunk.rays.size(), Result{});
-        trace(chunk.rays, std::span<Result>(results));
+        trace_list(chunk.rays, std::span<Result>(results));
         for (std::size_t k = 0; k < chunk.index.size(); ++k) out[chunk.index[k]] = results[k];
     });
 }
@@ -119,17 +143,26 @@ void trace_chunks(const RayArrays& rays, std::span<Result> out, BatchTraversal t
 }  // namespace
 
 void intersect_batch(const AnyAccel& accel, const RayArrays& rays, std::span<Hit> hits, BatchTraversal traversal) {
-    trace_chunks(rays, hits, traversal, [&](const std::vector<Ray>& chunk_rays, std::span<Hit> chunk_hits) {
-        intersect_stream(accel, chunk_rays, chunk_hits, stream_traversal(traversal));
-    });
+    trace_chunks(
+        rays, hits, traversal,
+        [&](const std::vector<Ray>& chunk_rays, std::span<Hit> chunk_hits) {
+            intersect_stream(accel, chunk_rays, chunk_hits, stream_traversal(traversal));
+        },
+        [&](const StridedRays& strided, std::span<const std::size_t> order, std::span<Hit> out) {
+            intersect_stream(accel, strided, order, out, stream_traversal(traversal));
+        });
 }
 
 void occluded_batch(const AnyAccel& accel, const RayArrays& rays, std::span<std::uint8_t> occluded,
                     BatchTraversal traversal) {
-    trace_chunks(rays, occluded, traversal,
-                 [&](const std::vector<Ray>& chunk_rays, std::span<std::uint8_t> chunk_occluded) {
-                     occlude_stream(accel, chunk_rays, chunk_occluded, stream_traversal(traversal));
-                 });
+    trace_chunks(
+        rays, occluded, traversal,
+        [&](const std::vector<Ray>& chunk_rays, std::span<std::uint8_t> chunk_occluded) {
+            occlude_stream(accel, chunk_rays, chunk_occluded, stream_traversal(traversal));
+        },
+        [&](const StridedRays& strided, std::span<const std::size_t> order, std::span<std::uint8_t> out) {
+            occlude_stream(accel, strided, order, out, stream_traversal(traversal));
+        });
 }
 
 void count_hits_batch(const AnyAccel& accel, const RayArrays& rays, std::span<std::int32_t> counts,

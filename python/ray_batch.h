@@ -30,6 +30,7 @@ struct RayArrays {
 
     std::size_t size() const { return rows * columns; }
     Ray ray(std::size_t i) const;
+    StridedRays strided() const;
 };
 
 /// How a batch is traced: the packet width (scalar: single rays) and the threads (0: all cores).

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <stdexcept>
 #include <type_traits>
@@ -16,45 +17,84 @@ namespace {
 template <bool AnyHit>
 using Result = std::conditional_t<AnyHit, std::uint8_t, Hit>;
 
-template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Structure>
-void trace_single(const Structure& structure, std::span<const Ray> rays, std::span<Result<AnyHit>> out) {
+/// The rays of a stream as the kernels below read them: a list of Rays, results in list order.
+struct RayList {
+    std::span<const Ray> rays;
+    std::size_t size() const { return rays.size(); }
+    const Ray& ray(std::size_t i) const { return rays[i]; }
+    std::size_t out_index(std::size_t i) const { return i; }
+};
+
+/// Rays gathered through `order` from arrays, results scattered back through it; every ray is
+/// traced (the caller checked them), and packets take consecutive entries of `order`.
+struct GatheredRays {
+    const StridedRays& arrays;
+    std::span<const std::size_t> order;
+    std::size_t size() const { return order.size(); }
+    Ray ray(std::size_t i) const { return arrays.ray(order[i]); }
+    std::size_t out_index(std::size_t i) const { return order[i]; }
+};
+
+template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Structure, class Rays>
+void trace_single(const Structure& structure, const Rays& rays, std::span<Result<AnyHit>> out) {
     for (std::size_t i = 0; i < rays.size(); ++i) {
         NoCounters counters;
+        const Ray ray = rays.ray(i);
+        Result<AnyHit>& result = out[rays.out_index(i)];
         if constexpr (AnyHit)
-            out[i] = is_traced(rays[i]) && structure.template occluded<Test, Slabs>(rays[i], counters);
+            result = is_traced(ray) && structure.template occluded<Test, Slabs>(ray, counters);
         else
-            out[i] = is_traced(rays[i]) ? structure.template intersect<Test, Slabs>(rays[i], counters) : Hit{};
+            result = is_traced(ray) ? structure.template intersect<Test, Slabs>(ray, counters) : Hit{};
+    }
+}
+
+/// One packet of the rays at `index` (at most the width's lanes), its results written to `out`.
+template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Structure, class Rays>
+void trace_packet(const Structure& structure, const Rays& rays, std::span<const std::size_t> index,
+                  std::span<Result<AnyHit>> out) {
+    constexpr std::size_t kLanes = RayPacket<Arch>::width;
+    std::array<Ray, kLanes> lane_rays;
+    for (std::size_t k = 0; k < index.size(); ++k) lane_rays[k] = rays.ray(index[k]);
+    const RayPacket<Arch> packet(std::span<const Ray>(lane_rays.data(), index.size()));
+    NoCounters counters;
+    if constexpr (AnyHit) {
+        const std::uint32_t bits = simd::mask_bits(structure.template occluded<Test, Slabs>(packet, counters));
+        for (std::size_t k = 0; k < index.size(); ++k) out[rays.out_index(index[k])] = (bits >> k) & 1u;
+    } else {
+        HitPacket<Arch> hits(packet);
+        structure.template intersect<Test, Slabs>(packet, hits, counters);
+        std::array<Hit, kLanes> lane_hits;
+        hits.store(std::span<Hit>(lane_hits.data(), index.size()));
+        for (std::size_t k = 0; k < index.size(); ++k) out[rays.out_index(index[k])] = lane_hits[k];
     }
 }
 
 template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Structure>
-void trace_packets(const Structure& structure, std::span<const Ray> rays, std::span<Result<AnyHit>> out,
+void trace_packets(const Structure& structure, const RayList& rays, std::span<Result<AnyHit>> out,
                    PacketGrouping grouping) {
-    constexpr std::size_t kLanes = RayPacket<Arch>::width;
     for (std::size_t i = 0; i < rays.size(); ++i)
-        if (!is_traced(rays[i])) out[i] = Result<AnyHit>{};
-    for_each_stream_packet(rays, kLanes, grouping, [&](std::span<const std::size_t> index) {
-        std::array<Ray, kLanes> lane_rays;
-        for (std::size_t k = 0; k < index.size(); ++k) lane_rays[k] = rays[index[k]];
-        const RayPacket<Arch> packet(std::span<const Ray>(lane_rays.data(), index.size()));
-        NoCounters counters;
-        if constexpr (AnyHit) {
-            const std::uint32_t bits = simd::mask_bits(structure.template occluded<Test, Slabs>(packet, counters));
-            for (std::size_t k = 0; k < index.size(); ++k) out[index[k]] = (bits >> k) & 1u;
-        } else {
-            HitPacket<Arch> hits(packet);
-            structure.template intersect<Test, Slabs>(packet, hits, counters);
-            std::array<Hit, kLanes> lane_hits;
-            hits.store(std::span<Hit>(lane_hits.data(), index.size()));
-            for (std::size_t k = 0; k < index.size(); ++k) out[index[k]] = lane_hits[k];
-        }
+        if (!is_traced(rays.ray(i))) out[i] = Result<AnyHit>{};
+    for_each_stream_packet(rays.rays, RayPacket<Arch>::width, grouping, [&](std::span<const std::size_t> index) {
+        trace_packet<AnyHit, Test, Slabs, Arch>(structure, rays, index, out);
     });
 }
 
-template <bool AnyHit>
-void trace_stream(const AnyAccel& accel, std::span<const Ray> rays, std::span<Result<AnyHit>> out,
-                  StreamTraversal traversal, TriangleTest test) {
-    if (out.size() != rays.size()) throw std::invalid_argument("trace stream: one result per ray is needed");
+template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Structure>
+void trace_packets(const Structure& structure, const GatheredRays& rays, std::span<Result<AnyHit>> out,
+                   PacketGrouping) {
+    constexpr std::size_t kLanes = RayPacket<Arch>::width;
+    std::array<std::size_t, kLanes> index;
+    for (std::size_t first = 0; first < rays.size(); first += kLanes) {
+        const std::size_t lanes = std::min(kLanes, rays.size() - first);
+        for (std::size_t k = 0; k < lanes; ++k) index[k] = first + k;
+        trace_packet<AnyHit, Test, Slabs, Arch>(structure, rays, std::span<const std::size_t>(index.data(), lanes),
+                                                out);
+    }
+}
+
+template <bool AnyHit, class Rays>
+void trace_stream(const AnyAccel& accel, const Rays& rays, std::span<Result<AnyHit>> out, StreamTraversal traversal,
+                  TriangleTest test) {
     with_traversal_variant(test, traversal.slabs, [&](auto test_tag, auto slabs_tag) {
         constexpr TriangleTest Test = decltype(test_tag)::value;
         constexpr SlabTest Slabs = decltype(slabs_tag)::value;
@@ -78,21 +118,39 @@ void trace_stream_parallel(const AnyAccel& accel, std::span<const Ray> rays, std
                            StreamTraversal traversal, TriangleTest test) {
     if (out.size() != rays.size()) throw std::invalid_argument("trace stream: one result per ray is needed");
     for_each_stream_chunk(rays.size(), [&](std::size_t first, std::size_t last) {
-        trace_stream<AnyHit>(accel, rays.subspan(first, last - first), out.subspan(first, last - first), traversal,
-                             test);
+        trace_stream<AnyHit>(accel, RayList{rays.subspan(first, last - first)}, out.subspan(first, last - first),
+                             traversal, test);
     });
 }
 
 }  // namespace
 
+Ray StridedRays::ray(std::size_t i) const {
+    const float* o = origins + i * origin_stride;
+    const float* d = directions + i * direction_stride;
+    return Ray{{o[0], o[1], o[2]}, {d[0], d[1], d[2]}, tmin, tmax};
+}
+
 void occlude_stream(const AnyAccel& accel, std::span<const Ray> rays, std::span<std::uint8_t> occluded,
                     StreamTraversal traversal, TriangleTest test) {
-    trace_stream<true>(accel, rays, occluded, traversal, test);
+    if (occluded.size() != rays.size()) throw std::invalid_argument("trace stream: one result per ray is needed");
+    trace_stream<true>(accel, RayList{rays}, occluded, traversal, test);
 }
 
 void intersect_stream(const AnyAccel& accel, std::span<const Ray> rays, std::span<Hit> hits, StreamTraversal traversal,
                       TriangleTest test) {
-    trace_stream<false>(accel, rays, hits, traversal, test);
+    if (hits.size() != rays.size()) throw std::invalid_argument("trace stream: one result per ray is needed");
+    trace_stream<false>(accel, RayList{rays}, hits, traversal, test);
+}
+
+void occlude_stream(const AnyAccel& accel, const StridedRays& rays, std::span<const std::size_t> order,
+                    std::span<std::uint8_t> occluded, StreamTraversal traversal, TriangleTest test) {
+    trace_stream<true>(accel, GatheredRays{rays, order}, occluded, traversal, test);
+}
+
+void intersect_stream(const AnyAccel& accel, const StridedRays& rays, std::span<const std::size_t> order,
+                      std::span<Hit> hits, StreamTraversal traversal, TriangleTest test) {
+    trace_stream<false>(accel, GatheredRays{rays, order}, hits, traversal, test);
 }
 
 void occlude_stream_parallel(const AnyAccel& accel, std::span<const Ray> rays, std::span<std::uint8_t> occluded,

@@ -2,6 +2,7 @@
 // Tracing a list of secondary rays (shadow, ambient-occlusion, diffuse-bounce) on the calling
 // thread, one at a time or as packets, cut from the list in order or by direction octant
 // (stream_packets.h). Rays with tmax <= tmin are not traced: unoccluded, no hit.
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
@@ -28,6 +29,30 @@ void occlude_stream(const AnyAccel& accel, std::span<const Ray> rays, std::span<
 /// Closest hit of each ray.
 void intersect_stream(const AnyAccel& accel, std::span<const Ray> rays, std::span<Hit> hits, StreamTraversal traversal,
                       TriangleTest test = TriangleTest::watertight);
+
+/// Rays read where the caller keeps them (numpy's arrays, for the Python module): ray i's origin
+/// is origins[i * origin_stride + 0..2], its direction the same in `directions`; a stride of 0
+/// gives every ray the same origin (or direction). All share [tmin, tmax].
+struct StridedRays {
+    const float* origins = nullptr;
+    std::size_t origin_stride = 3;
+    const float* directions = nullptr;
+    std::size_t direction_stride = 3;
+    float tmin = 0.0f;
+    float tmax = kInfinity;
+
+    Ray ray(std::size_t i) const;
+};
+
+/// The rays rays.ray(order[k]) traced with their results written straight to position order[k]
+/// of `occluded` or `hits`, packets taking consecutive entries of `order` (so the caller decides
+/// which rays share a packet), without copying the rays into a list first. Every ray must be
+/// traceable: finite, a non-zero direction, tmin < tmax; the caller checks that.
+void occlude_stream(const AnyAccel& accel, const StridedRays& rays, std::span<const std::size_t> order,
+                    std::span<std::uint8_t> occluded, StreamTraversal traversal,
+                    TriangleTest test = TriangleTest::watertight);
+void intersect_stream(const AnyAccel& accel, const StridedRays& rays, std::span<const std::size_t> order,
+                      std::span<Hit> hits, StreamTraversal traversal, TriangleTest test = TriangleTest::watertight);
 
 /// The same over all cores, the list cut into chunks of consecutive rays.
 void occlude_stream_parallel(const AnyAccel& accel, std::span<const Ray> rays, std::span<std::uint8_t> occluded,
