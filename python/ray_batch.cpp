@@ -18,16 +18,6 @@
 
 namespace trident {
 
-Ray RayArrays::ray(std::size_t i) const {
-    const float* o = origins + i * origin_stride;
-    const float* d = directions + i * direction_stride;
-    return Ray{{o[0], o[1], o[2]}, {d[0], d[1], d[2]}, tmin, tmax};
-}
-
-StridedRays RayArrays::strided() const {
-    return {origins, origin_stride, directions, direction_stride, tmin, tmax};
-}
-
 namespace {
 
 // Runs of consecutive rays in a list, as ray_stream.cpp cuts its parallel streams.
@@ -84,7 +74,7 @@ template <class PerChunk>
 void for_each_chunk(const RayArrays& rays, BatchTraversal traversal, bool gather, PerChunk&& per_chunk) {
     std::atomic<std::size_t> first_bad{kNoRay};
     const int threads = traversal.threads > 0 ? traversal.threads : tbb::info::default_concurrency();
-    gather = gather && rays.tmin < rays.tmax;
+    gather = gather && rays.strided.tmin < rays.strided.tmax;
     tbb::task_arena arena(threads);
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunk_count(rays)), [&](const auto& range) {
@@ -131,7 +121,7 @@ void trace_chunks(const RayArrays& rays, std::span<Result> out, BatchTraversal t
     constexpr bool kGather = !std::is_same_v<std::decay_t<TraceGathered>, std::nullptr_t>;
     for_each_chunk(rays, traversal, kGather, [&](Chunk& chunk) {
         if constexpr (kGather) {
-            if (chunk.gathered) return trace_gathered(rays.strided(), std::span<const std::size_t>(chunk.index), out);
+            if (chunk.gathered) return trace_gathered(rays.strided, std::span<const std::size_t>(chunk.index), out);
         }
         thread_local std::vector<Result> results;
         results.assign(chunk.rays.size(), Result{});
@@ -192,7 +182,7 @@ void contains_batch(const AnyAccel& accel, const float* points, std::size_t coun
     auto crossings = [&](const float* origins, std::size_t n, const float* direction) {
         std::vector<std::int32_t> counts(n);
         count_hits_batch(accel,
-                         RayArrays{.origins = origins, .directions = direction, .direction_stride = 0, .columns = n},
+                         RayArrays{.strided = {.origins = origins, .directions = direction, .direction_stride = 0}, .columns = n},
                          counts, traversal);
         return counts;
     };

@@ -15,22 +15,15 @@
 
 namespace trident {
 
-/// Where ray i's origin and direction lie: origins[i * origin_stride + 0..2], the same for
-/// directions; a stride of 0 gives every ray the same origin (or direction).
+/// A batch: where its rays lie in the caller's arrays (render/ray_stream.h) and how many there are.
 struct RayArrays {
-    const float* origins = nullptr;
-    std::size_t origin_stride = 3;
-    const float* directions = nullptr;
-    std::size_t direction_stride = 3;
-    float tmin = 0.0f;
-    float tmax = kInfinity;
+    StridedRays strided;
     /// rows x columns rays, row-major: rows > 1 makes it an image traced in tiles.
     std::size_t rows = 1;
     std::size_t columns = 0;
 
     std::size_t size() const { return rows * columns; }
-    Ray ray(std::size_t i) const;
-    StridedRays strided() const;
+    Ray ray(std::size_t i) const { return strided.ray(i); }
 };
 
 /// How a batch is traced: the packet width (scalar: single rays) and the threads (0: all cores).

@@ -101,10 +101,10 @@ RayInput read_rays(py::handle origins, py::handle directions, double tmin, doubl
     if (directions.is_none()) {
         input.origins = float_array(origins, "rays");
         check_last_axis(input.origins, "rays", 6);
-        input.arrays = {.origins = input.origins.data(),
-                        .origin_stride = 6,
-                        .directions = input.origins.data() + 3,
-                        .direction_stride = 6};
+        input.arrays.strided = {.origins = input.origins.data(),
+                                .origin_stride = 6,
+                                .directions = input.origins.data() + 3,
+                                .direction_stride = 6};
         input.shape = leading_shape(input.origins);
     } else {
         input.origins = float_array(origins, "origins");
@@ -117,15 +117,15 @@ RayInput read_rays(py::handle origins, py::handle directions, double tmin, doubl
         if (!shared_origin && leading_shape(input.origins) != input.shape)
             throw py::value_error(fmt::format("origins: shape {} matches neither the directions' {} nor (3,)",
                                               shape_text(input.origins), shape_text(input.directions)));
-        input.arrays = {.origins = input.origins.data(),
-                        .origin_stride = shared_origin ? 0u : 3u,
-                        .directions = input.directions.data()};
+        input.arrays.strided = {.origins = input.origins.data(),
+                                .origin_stride = shared_origin ? 0u : 3u,
+                                .directions = input.directions.data()};
     }
     if (!(std::isfinite(tmin) && tmin >= 0.0))
         throw py::value_error(fmt::format("tmin {}: must be finite and >= 0", tmin));
     if (std::isnan(tmax)) throw py::value_error("tmax: must not be NaN");
-    input.arrays.tmin = float(tmin);
-    input.arrays.tmax = float(tmax);
+    input.arrays.strided.tmin = float(tmin);
+    input.arrays.strided.tmax = float(tmax);
     // Two leading axes are an image (rows, columns) and are traced in the renderer's tiles.
     input.arrays.rows = input.shape.size() == 2 ? std::size_t(input.shape[0]) : 1;
     input.arrays.columns = element_count(input.shape) / std::max<std::size_t>(input.arrays.rows, 1);
