@@ -12,6 +12,7 @@
 #include <limits>
 #include <stdexcept>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "render/image_tiles.h"
@@ -28,9 +29,17 @@ std::size_t ceil_div(std::size_t a, std::size_t b) { return (a + b - 1) / b; }
 
 bool is_image(const RayArrays& rays) { return rays.rows > 1; }
 
+// An image's chunk is a band of whole tile rows: its rays lie in one run of the caller's arrays,
+// which the check reads front to back (the hardware prefetches that; single 16x16 tiles, 16 short
+// runs apart, took the check as long as the packets' own reads) and the packets then find in cache.
 std::size_t chunk_count(const RayArrays& rays) {
-    if (is_image(rays)) return ceil_div(rays.rows, kRenderTileSize) * ceil_div(rays.columns, kRenderTileSize);
-    return ceil_div(rays.size(), kListChunkRays);
+    return is_image(rays) ? ceil_div(rays.rows, kRenderTileSize) : ceil_div(rays.size(), kListChunkRays);
+}
+
+/// The positions [first, last) of chunk c's rays in the batch.
+std::pair<std::size_t, std::size_t> chunk_range(const RayArrays& rays, std::size_t c) {
+    const std::size_t run = is_image(rays) ? kRenderTileSize * rays.columns : kListChunkRays;
+    return {c * run, std::min(rays.size(), (c + 1) * run)};
 }
 
 /// The rays of one chunk: their positions in the batch in the order the stream packs them and, when
@@ -41,25 +50,27 @@ struct Chunk {
     std::vector<Ray> rays;
 };
 
-/// Chunk `c`'s ray positions: a list's run, or an image tile's pixels packet block by packet block
-/// (the renderer's PrimaryBlock lanes: block rows top down, lanes row-major inside a block). Where the
-/// image's edge cuts a block, the stream fills the packet with the next block's rays.
+/// Chunk `c`'s ray positions in the order they are traced: a list's run, or a band's tiles left to
+/// right, each tile's pixels packet block by packet block (the renderer's PrimaryBlock lanes: block
+/// rows top down, lanes row-major inside a block). Where the image's edge cuts a block, the stream
+/// fills the packet with the next block's rays.
 void order_chunk(const RayArrays& rays, std::size_t lanes, std::size_t c, std::vector<std::size_t>& index) {
     index.clear();
+    const auto [first, last] = chunk_range(rays, c);
     if (!is_image(rays)) {
-        for (std::size_t i = c * kListChunkRays; i < std::min(rays.size(), (c + 1) * kListChunkRays); ++i)
-            index.push_back(i);
+        for (std::size_t i = first; i < last; ++i) index.push_back(i);
         return;
     }
     const auto [block_width, block_height] = lanes >= 4 ? packet_block(lanes) : std::pair{1u, 1u};
-    const std::size_t across = ceil_div(rays.columns, kRenderTileSize);
-    const std::size_t x0 = (c % across) * kRenderTileSize, y0 = (c / across) * kRenderTileSize;
-    const std::size_t x1 = std::min(x0 + kRenderTileSize, rays.columns), y1 = std::min(y0 + kRenderTileSize, rays.rows);
-    for (std::size_t by = y0; by < y1; by += block_height)
-        for (std::size_t bx = x0; bx < x1; bx += block_width)
-            for (std::size_t y = by; y < std::min<std::size_t>(by + block_height, y1); ++y)
-                for (std::size_t x = bx; x < std::min<std::size_t>(bx + block_width, x1); ++x)
-                    index.push_back(y * rays.columns + x);
+    const std::size_t y0 = first / rays.columns, y1 = last / rays.columns;
+    for (std::size_t x0 = 0; x0 < rays.columns; x0 += kRenderTileSize) {
+        const std::size_t x1 = std::min(x0 + kRenderTileSize, rays.columns);
+        for (std::size_t by = y0; by < y1; by += block_height)
+            for (std::size_t bx = x0; bx < x1; bx += block_width)
+                for (std::size_t y = by; y < std::min<std::size_t>(by + block_height, y1); ++y)
+                    for (std::size_t x = bx; x < std::min<std::size_t>(bx + block_width, x1); ++x)
+                        index.push_back(y * rays.columns + x);
+    }
 }
 
 bool is_traceable(const Ray& ray) {
@@ -82,7 +93,8 @@ void for_each_chunk(const RayArrays& rays, BatchTraversal traversal, bool gather
             for (std::size_t c = range.begin(); c != range.end(); ++c) {
                 order_chunk(rays, lane_count(traversal.width), c, chunk.index);
                 bool all_traceable = true;
-                for (const std::size_t i : chunk.index) {
+                const auto [first, last] = chunk_range(rays, c);
+                for (std::size_t i = first; i < last; ++i) {
                     if (is_traceable(rays.ray(i))) continue;
                     all_traceable = false;
                     std::size_t seen = first_bad.load();

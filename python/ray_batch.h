@@ -2,9 +2,10 @@
 // Queries over a batch of rays the caller keeps in its own float arrays (numpy's, for the Python
 // module): origins and directions read in place through strides, results written straight into the
 // caller's buffers. Rays go through the renderer's ray-stream path (render/ray_stream.h) in chunks
-// that threads share: an image of rays (rows x columns) in the renderer's 16x16 tiles, each tile's
-// rays in the order of its packet blocks (2x2, 4x2 or 4x4 pixels, render/image_tiles.h), so that
-// a packet holds the pixels the renderer's packet holds; a list of rays in runs of consecutive rays.
+// that threads share: an image of rays (rows x columns) in bands of the renderer's 16x16 tiles,
+// each tile's rays in the order of its packet blocks (2x2, 4x2 or 4x4 pixels,
+// render/image_tiles.h), so that a packet holds the pixels the renderer's packet holds; a list of
+// rays in runs of consecutive rays.
 #include <cstddef>
 #include <cstdint>
 #include <span>

@@ -2,10 +2,12 @@
 // Every triangle against every ray, in single precision with the same triangle tests as the
 // trees: the baseline a structure must beat, and the smallest example of the structure interface
 // (build, intersect, occluded, stats). It tests no boxes, so the slab-test flag the trees take
-// (core/slab_test.h) is accepted and changes nothing.
+// (core/slab_test.h) is accepted and changes nothing. Its packet kernels are instantiated in
+// brute_force.cpp, as the trees' are in theirs (accel/packet_kernels.h).
 #include <vector>
 
 #include "accel/accel_stats.h"
+#include "accel/packet_kernels.h"
 #include "core/intersect_triangle.h"
 #include "core/mesh.h"
 #include "core/slab_test.h"
@@ -43,7 +45,8 @@ public:
     }
 
     template <TriangleTest Test, SlabTest = SlabTest::robust, class Arch, class Counters>
-    void intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters) const {
+    void intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters,
+                   int /*single_ray_lanes*/ = kDefaultSingleRayLanes) const {
         const auto isect = packet_intersector<Test>(rays);
         using Float = typename RayPacket<Arch>::Float;
         TriangleHitT<Float> h{Float(0.0f), Float(0.0f), Float(0.0f)};
@@ -54,7 +57,8 @@ public:
     }
 
     template <TriangleTest Test, SlabTest = SlabTest::robust, class Arch, class Counters>
-    typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters) const {
+    typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters,
+                                            int /*single_ray_lanes*/ = kDefaultSingleRayLanes) const {
         const auto isect = packet_intersector<Test>(rays);
         using Float = typename RayPacket<Arch>::Float;
         TriangleHitT<Float> h{Float(0.0f), Float(0.0f), Float(0.0f)};

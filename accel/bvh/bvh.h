@@ -10,7 +10,7 @@
 // sign of the ray direction on the node's split axis, and stacks the far one with its entry
 // distance, so that a popped node starting beyond the closest hit found meanwhile is skipped.
 // Ray packets walk the same tree together (bvh_packet.h) and hand subtrees few of their lanes
-// need to this traversal.
+// need to this traversal; callers trace them through PacketKernels (accel/packet_kernels.h).
 #include <cassert>
 #include <cstdint>
 #include <span>
@@ -20,8 +20,8 @@
 #include "accel/accel_stats.h"
 #include "accel/bvh/bvh_node.h"
 #include "accel/bvh/bvh_options.h"
-#include "accel/bvh/bvh_packet.h"
 #include "accel/bvh/node_box_test.h"
+#include "accel/packet_kernels.h"
 #include "core/huge_page_array.h"
 #include "core/intersect_triangle.h"
 #include "core/mesh.h"
@@ -57,19 +57,15 @@ public:
     /// (constructed from `rays`; other lanes are left as they are), or whether anything is hit.
     /// A lane gets intersect(ray)'s hit bit for bit, except that of two triangles hit at exactly
     /// its t it may keep the other one (bvh_packet.h says when). Subtrees that at most
-    /// SingleRayLanes lanes need are traced ray by ray; the default is the width's measured best.
-    /// Counters count per packet (and per ray in the subtrees traced ray by ray).
-    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters,
-              int SingleRayLanes = bvh::single_ray_lanes(RayPacket<Arch>::width)>
-    void intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters) const {
-        traverse_packet<false, Test, Slabs, SingleRayLanes>(rays, hits, counters);
-    }
-    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters,
-              int SingleRayLanes = bvh::single_ray_lanes(RayPacket<Arch>::width)>
-    typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters) const {
-        HitPacket<Arch> limits(rays);
-        return traverse_packet<true, Test, Slabs, SingleRayLanes>(rays, limits, counters);
-    }
+    /// `single_ray_lanes` lanes need are traced ray by ray; the default is the width's measured best.
+    /// Counters count per packet (and per ray in the subtrees traced ray by ray). Defined in
+    /// bvh_packet.h, instantiated in bvh_packet_kernels.cpp: callers go through PacketKernels.
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters>
+    void intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters,
+                   int single_ray_lanes = kDefaultSingleRayLanes) const;
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters>
+    typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters,
+                                            int single_ray_lanes = kDefaultSingleRayLanes) const;
 
     const AccelStats& stats() const { return stats_; }
     const BvhOptions& options() const { return options_; }
@@ -86,16 +82,9 @@ private:
     template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Counters>
     Hit traverse(const Ray& ray, std::uint32_t subtree, Counters& counters) const;
 
-    template <bool AnyHit, TriangleTest Test, SlabTest Slabs, int SingleRayLanes, class Arch, class Counters>
+    template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
     typename RayPacket<Arch>::Mask traverse_packet(const RayPacket<Arch>& rays, HitPacket<Arch>& hits,
-                                                   Counters& counters) const {
-        return bvh::traverse_packet<AnyHit, Test, Slabs, SingleRayLanes>(
-            {nodes_, triangles_, triangle_ids_}, rays, hits,
-            [&](const Ray& ray, std::uint32_t subtree) {
-                return traverse<AnyHit, Test, Slabs>(ray, subtree, counters);
-            },
-            counters);
-    }
+                                                   Counters& counters, int single_ray_lanes) const;
 
     HugePageArray<BvhNode> nodes_;
     HugePageArray<Triangle> triangles_;

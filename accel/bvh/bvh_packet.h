@@ -28,6 +28,7 @@
 #include <span>
 #include <xsimd/xsimd.hpp>
 
+#include "accel/bvh/bvh.h"
 #include "accel/bvh/bvh_node.h"
 #include "core/flatten.h"
 #include "core/intersect_triangle.h"
@@ -92,22 +93,21 @@ xsimd::batch_bool<float, Arch> trace_lanes_singly(const RayPacket<Arch>& rays, s
 
 /// Closest hit (AnyHit false) or any hit per live lane: active and with tmin <= tmax. Hits go into
 /// `hits`, whose t is each lane's limit; lanes that are not live keep what they hold. Subtrees that
-/// at most SingleRayLanes lanes need go to trace_subtree(const Ray&, std::uint32_t node) -> Hit,
+/// at most `single_ray_lanes` lanes need go to trace_subtree(const Ray&, std::uint32_t node) -> Hit,
 /// the single-ray traversal of that subtree. Any-hit queries end a lane at its first hit (its t
 /// becomes -inf, so no box admits it again) and return the lanes that hit; closest-hit queries
 /// return no lanes (their answer is `hits`). Counters count per packet: a visit_node per node box
 /// the packet tests, a test_triangle per triangle it tests (and per ray in single-ray subtrees).
 /// Flattened like the other structures' walks: without it, 8-lane packets took up to 1.37 times
 /// as long (bench/experiments/packets.md; 16-lane packets and single rays did not change).
-template <bool AnyHit, TriangleTest Test, SlabTest Slabs, int SingleRayLanes, class Arch, class TraceSubtree,
-          class Counters>
+template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class TraceSubtree, class Counters>
 TRIDENT_FLATTEN typename RayPacket<Arch>::Mask traverse_packet(const TreeArrays& tree, const RayPacket<Arch>& rays,
                                                                HitPacket<Arch>& hits, TraceSubtree&& trace_subtree,
-                                                               Counters& counters) {
+                                                               Counters& counters, int single_ray_lanes) {
     using Float = typename RayPacket<Arch>::Float;
     using Mask = typename RayPacket<Arch>::Mask;
     using L = Lanes<Float>;
-    static_assert(SingleRayLanes >= 0 && std::size_t(SingleRayLanes) <= RayPacket<Arch>::width);
+    assert(single_ray_lanes >= 0 && std::size_t(single_ray_lanes) <= RayPacket<Arch>::width);
 
     const Mask live = rays.active & (rays.tmin <= rays.tmax);
     Mask blocked(false);  // any-hit lanes that have hit
@@ -177,7 +177,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask traverse_packet(const TreeArrays&
         const std::uint32_t lane_bits = simd::mask_bits(lanes);
         const int lane_count = std::popcount(lane_bits);
         const BvhNode& node = tree.nodes[current];
-        if (lane_count <= SingleRayLanes) {
+        if (lane_count <= single_ray_lanes) {
             const Mask hit = trace_lanes_singly<AnyHit>(rays, lane_bits, current, hits, trace_subtree);
             if constexpr (AnyHit) blocked = blocked | hit;
         } else if (node.is_leaf()) {
@@ -236,3 +236,30 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask traverse_packet(const TreeArrays&
 }
 
 }  // namespace trident::bvh
+
+namespace trident {
+
+template <TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
+void Bvh::intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters,
+                    int single_ray_lanes) const {
+    traverse_packet<false, Test, Slabs>(rays, hits, counters, single_ray_lanes);
+}
+
+template <TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
+typename RayPacket<Arch>::Mask Bvh::occluded(const RayPacket<Arch>& rays, Counters& counters,
+                                             int single_ray_lanes) const {
+    HitPacket<Arch> limits(rays);
+    return traverse_packet<true, Test, Slabs>(rays, limits, counters, single_ray_lanes);
+}
+
+template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
+typename RayPacket<Arch>::Mask Bvh::traverse_packet(const RayPacket<Arch>& rays, HitPacket<Arch>& hits,
+                                                    Counters& counters, int single_ray_lanes) const {
+    if (single_ray_lanes == kDefaultSingleRayLanes) single_ray_lanes = bvh::single_ray_lanes(RayPacket<Arch>::width);
+    return bvh::traverse_packet<AnyHit, Test, Slabs>(
+        {nodes_, triangles_, triangle_ids_}, rays, hits,
+        [&](const Ray& ray, std::uint32_t subtree) { return traverse<AnyHit, Test, Slabs>(ray, subtree, counters); },
+        counters, single_ray_lanes);
+}
+
+}  // namespace trident

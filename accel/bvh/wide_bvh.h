@@ -26,6 +26,7 @@
 #include "accel/bvh/bvh_options.h"
 #include "accel/bvh/wide_box_test.h"
 #include "accel/bvh/wide_node.h"
+#include "accel/packet_kernels.h"
 #include "core/flatten.h"
 #include "core/huge_page_array.h"
 #include "core/intersect_triangle.h"
@@ -67,11 +68,15 @@ public:
     }
 
     /// Ray packets (wide_packet.h): per live lane the single ray's hit bit for bit, or whether
-    /// anything is hit. Subtrees that at most SingleRayLanes lanes need are traced ray by ray.
-    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters, int SingleRayLanes = 1>
-    void intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters) const;
-    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters, int SingleRayLanes = 1>
-    typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters) const;
+    /// anything is hit. Subtrees that at most `single_ray_lanes` lanes need (by default 1) are
+    /// traced ray by ray. Instantiated in wide_bvh_packet_kernels.cpp: callers go through
+    /// PacketKernels (accel/packet_kernels.h).
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters>
+    void intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters,
+                   int single_ray_lanes = kDefaultSingleRayLanes) const;
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters>
+    typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters,
+                                            int single_ray_lanes = kDefaultSingleRayLanes) const;
 
     const AccelStats& stats() const { return stats_; }
     const BvhOptions& options() const { return options_; }
@@ -86,9 +91,9 @@ public:
     TRIDENT_FLATTEN Hit traverse(const Ray& ray, bvh::ChildRef start, Hit best, Counters& counters) const;
 
 private:
-    template <bool AnyHit, TriangleTest Test, SlabTest Slabs, int SingleRayLanes, class Arch, class Counters>
+    template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
     typename RayPacket<Arch>::Mask traverse_packet(const RayPacket<Arch>& rays, HitPacket<Arch>& hits,
-                                                   Counters& counters) const;
+                                                   Counters& counters, int single_ray_lanes) const;
 
     /// The lanes set in `lanes`, one by one with traverse() from `from`, each continuing from its
     /// record in `hits`; returns the any-hit lanes that hit (none for closest hit).
@@ -206,5 +211,3 @@ Hit WideBvh<Width, BlockSize>::traverse(const Ray& ray, bvh::ChildRef start, Hit
 }
 
 }  // namespace trident
-
-#include "accel/bvh/wide_packet.h"

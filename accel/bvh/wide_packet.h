@@ -1,10 +1,11 @@
 #pragma once
-// Ray packets through the wide BVH (included by wide_bvh.h): the whole packet walks the tree with
-// one stack, each of a node's children tested against every lane (one lane per ray, the slab test
-// of core/slab_test.h with the planes ordered per lane), the children some lane enters visited
-// nearest first by their nearest lane's entry, and subtrees that at most SingleRayLanes lanes
-// still need handed to the single-ray walk (Benthin et al. 2012, as bvh_packet.h and Embree's
-// hybrid traversal do). A leaf tests each of its triangles against the lanes that need it.
+// Ray packets through the wide BVH (instantiated in wide_bvh_packet_kernels.cpp): the whole
+// packet walks the tree with one stack, each of a node's children tested against every lane (one
+// lane per ray, the slab test of core/slab_test.h with the planes ordered per lane), the children
+// some lane enters visited nearest first by their nearest lane's entry, and subtrees that at most
+// `single_ray_lanes` lanes still need handed to the single-ray walk (Benthin et al. 2012, as
+// bvh_packet.h and Embree's hybrid traversal do). A leaf tests each of its triangles against the
+// lanes that need it.
 //
 // Per lane, the box test, the pruning rule (entry <= closest hit widened by kPruneSlack) and the
 // tie rule (lowest id at equal t) are the single-ray walk's, so every lane ends with the single
@@ -15,6 +16,7 @@
 #include <optional>
 #include <xsimd/xsimd.hpp>
 
+#include "accel/bvh/wide_bvh.h"
 #include "accel/bvh/wide_frustum.h"
 #include "simd/mask.h"
 
@@ -98,19 +100,24 @@ std::array<std::uint8_t, Width> farthest_first(const std::array<float, Width>& k
 
 }  // namespace bvh
 
+/// The threshold when the caller leaves it to the structure: a last single lane goes alone.
+inline constexpr int kWideSingleRayLanes = 1;
+
 template <std::size_t Width, std::size_t BlockSize>
-template <TriangleTest Test, SlabTest Slabs, class Arch, class Counters, int SingleRayLanes>
-void WideBvh<Width, BlockSize>::intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits,
-                                          Counters& counters) const {
-    traverse_packet<false, Test, Slabs, SingleRayLanes>(rays, hits, counters);
+template <TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
+void WideBvh<Width, BlockSize>::intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters,
+                                          int single_ray_lanes) const {
+    if (single_ray_lanes == kDefaultSingleRayLanes) single_ray_lanes = kWideSingleRayLanes;
+    traverse_packet<false, Test, Slabs>(rays, hits, counters, single_ray_lanes);
 }
 
 template <std::size_t Width, std::size_t BlockSize>
-template <TriangleTest Test, SlabTest Slabs, class Arch, class Counters, int SingleRayLanes>
-typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::occluded(const RayPacket<Arch>& rays,
-                                                                   Counters& counters) const {
+template <TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
+typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::occluded(const RayPacket<Arch>& rays, Counters& counters,
+                                                                   int single_ray_lanes) const {
+    if (single_ray_lanes == kDefaultSingleRayLanes) single_ray_lanes = kWideSingleRayLanes;
     HitPacket<Arch> limits(rays);
-    return traverse_packet<true, Test, Slabs, SingleRayLanes>(rays, limits, counters);
+    return traverse_packet<true, Test, Slabs>(rays, limits, counters, single_ray_lanes);
 }
 
 template <std::size_t Width, std::size_t BlockSize>
@@ -144,13 +151,14 @@ typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::trace_singly(const Ray
 }
 
 template <std::size_t Width, std::size_t BlockSize>
-template <bool AnyHit, TriangleTest Test, SlabTest Slabs, int SingleRayLanes, class Arch, class Counters>
+template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
 TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traverse_packet(const RayPacket<Arch>& rays,
                                                                                           HitPacket<Arch>& hits,
-                                                                                          Counters& counters) const {
+                                                                                          Counters& counters,
+                                                                                          int single_ray_lanes) const {
     using Float = typename RayPacket<Arch>::Float;
     using Mask = typename RayPacket<Arch>::Mask;
-    static_assert(SingleRayLanes >= 0 && std::size_t(SingleRayLanes) <= RayPacket<Arch>::width);
+    assert(single_ray_lanes >= 0 && std::size_t(single_ray_lanes) <= RayPacket<Arch>::width);
 
     const Mask live = rays.active & (rays.tmin <= rays.tmax);
     Mask blocked(false);  // any-hit lanes that have hit
@@ -178,7 +186,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
     bvh::ChildRef current = bvh::ChildRef::node(0);
     Mask lanes = live;
     for (;;) {
-        if (simd::active_lane_count(lanes) <= SingleRayLanes) {
+        if (simd::active_lane_count(lanes) <= single_ray_lanes) {
             blocked =
                 blocked | trace_singly<AnyHit, Test, Slabs>(rays, simd::mask_bits(lanes), current, hits, counters);
         } else if (!current.is_leaf()) {

@@ -20,12 +20,14 @@
 // into octant groups traversed one after another. Any-hit lanes retire at their first hit.
 #include <array>
 #include <bit>
+#include <cassert>
 #include <cstddef>
 #include <cstdint>
 #include <xsimd/xsimd.hpp>
 
 #include "accel/kdtree/kd_node.h"
 #include "accel/kdtree/kd_traversal.h"
+#include "accel/kdtree/kdtree.h"
 #include "core/flatten.h"
 #include "core/intersect_triangle.h"
 #include "core/ray.h"
@@ -97,19 +99,20 @@ xsimd::batch_bool<float, Arch> walk_lanes_singly(const KdTreeView& tree, const R
 /// Closest hit or any hit per live lane (active, tmin <= tmax): hits go into `hits`, whose t is
 /// each lane's limit (the ray's tmax on entry); lanes that are not live keep what they hold.
 /// Returns the lanes that hit (for any-hit queries, the answer). Subtrees that at most
-/// SingleRayLanes lanes need go to the single-ray walk. Counters count per packet: a visit_node
+/// `single_ray_lanes` lanes need go to the single-ray walk. Counters count per packet: a visit_node
 /// per node the packet (or an octant group of it) visits, a test_triangle per triangle it tests;
 /// single-ray walks count per ray. Flattened, as walk_kdtree(): 16-lane packets took up to 1.23
 /// times as long without.
-template <KdQuery Query, TriangleTest Test, SlabTest Slabs, int SingleRayLanes, class Arch, class Counters>
+template <KdQuery Query, TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
 TRIDENT_FLATTEN typename RayPacket<Arch>::Mask traverse_kdtree_packet(const KdTreeView& tree,
                                                                       const RayPacket<Arch>& rays,
-                                                                      HitPacket<Arch>& hits, Counters& counters) {
+                                                                      HitPacket<Arch>& hits, Counters& counters,
+                                                                      int single_ray_lanes) {
     using Float = typename RayPacket<Arch>::Float;
     using Mask = typename RayPacket<Arch>::Mask;
     using detail::widened_down;
     using detail::widened_up;
-    static_assert(SingleRayLanes >= 0 && std::size_t(SingleRayLanes) <= RayPacket<Arch>::width);
+    assert(single_ray_lanes >= 0 && std::size_t(single_ray_lanes) <= RayPacket<Arch>::width);
 
     Mask found(false);
     Mask live = rays.active & (rays.tmin <= rays.tmax);
@@ -141,7 +144,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask traverse_kdtree_packet(const KdTr
         for (;;) {
             const std::uint32_t lane_bits = simd::mask_bits(lanes);
             const KdNode node = tree.nodes[index];
-            if (std::popcount(lane_bits) <= SingleRayLanes) {
+            if (std::popcount(lane_bits) <= single_ray_lanes) {
                 found = found | walk_lanes_singly<Query, Test, Slabs>(tree, rays, lane_bits, index, t_min, t_max, hits,
                                                                       counters);
             } else if (!node.is_leaf()) {
@@ -211,3 +214,22 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask traverse_kdtree_packet(const KdTr
 }
 
 }  // namespace trident::kd
+
+namespace trident {
+
+template <TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
+void KdTree::intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters,
+                       int single_ray_lanes) const {
+    if (single_ray_lanes == kDefaultSingleRayLanes) single_ray_lanes = kd::single_ray_lanes(RayPacket<Arch>::width);
+    kd::traverse_kdtree_packet<KdQuery::closest_hit, Test, Slabs>(view(), rays, hits, counters, single_ray_lanes);
+}
+
+template <TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
+typename RayPacket<Arch>::Mask KdTree::occluded(const RayPacket<Arch>& rays, Counters& counters,
+                                                int single_ray_lanes) const {
+    if (single_ray_lanes == kDefaultSingleRayLanes) single_ray_lanes = kd::single_ray_lanes(RayPacket<Arch>::width);
+    HitPacket<Arch> limits(rays);
+    return kd::traverse_kdtree_packet<KdQuery::any_hit, Test, Slabs>(view(), rays, limits, counters, single_ray_lanes);
+}
+
+}  // namespace trident

@@ -9,8 +9,8 @@
 #include "accel/accel_stats.h"
 #include "accel/kdtree/kd_node.h"
 #include "accel/kdtree/kd_options.h"
-#include "accel/kdtree/kd_packet.h"
 #include "accel/kdtree/kd_traversal.h"
+#include "accel/packet_kernels.h"
 #include "core/intersect_triangle.h"
 #include "core/mesh.h"
 #include "simd/packet.h"
@@ -42,27 +42,23 @@ public:
 
     /// Ray packets (kd_packet.h): per active lane with tmin <= tmax, the closest hit into `hits`
     /// (constructed from `rays`; other lanes are left as they are) or whether anything is hit,
-    /// equal to intersect(ray) / occluded(ray) bit for bit. Subtrees that at most SingleRayLanes
-    /// lanes need are walked ray by ray; the default is the measured break-even of the width.
-    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters,
-              int SingleRayLanes = kd::single_ray_lanes(RayPacket<Arch>::width)>
-    void intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters) const {
-        kd::traverse_kdtree_packet<KdQuery::closest_hit, Test, Slabs, SingleRayLanes>(view(), rays, hits, counters);
-    }
-    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters,
-              int SingleRayLanes = kd::single_ray_lanes(RayPacket<Arch>::width)>
-    typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters) const {
-        HitPacket<Arch> limits(rays);
-        return kd::traverse_kdtree_packet<KdQuery::any_hit, Test, Slabs, SingleRayLanes>(view(), rays, limits,
-                                                                                         counters);
-    }
+    /// equal to intersect(ray) / occluded(ray) bit for bit. Subtrees that at most
+    /// `single_ray_lanes` lanes need are walked ray by ray; the default is the measured break-even
+    /// of the width. Defined in kd_packet.h, instantiated in kd_packet_kernels.cpp: callers go
+    /// through PacketKernels (accel/packet_kernels.h).
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters>
+    void intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters,
+                   int single_ray_lanes = kDefaultSingleRayLanes) const;
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters>
+    typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters,
+                                            int single_ray_lanes = kDefaultSingleRayLanes) const;
 
     const AccelStats& stats() const { return stats_; }
 
     // The flattened layout, for packet traversals and tests.
     std::span<const KdNode> nodes() const { return nodes_; }
     std::span<const TriangleId> leaf_triangles() const { return leaf_triangles_; }  // indices into triangles()
-    std::span<const Triangle> triangles() const { return triangles_; }  // the builder's order, finite ones only
+    std::span<const Triangle> triangles() const { return triangles_; }          // the builder's order, finite ones only
     std::span<const TriangleId> triangle_ids() const { return triangle_ids_; }  // file index of each
     const Aabb& bounds() const { return bounds_; }
     KdTreeView view() const { return {nodes_, leaf_triangles_, triangles_, triangle_ids_, bounds_}; }

@@ -12,8 +12,8 @@
 #include "accel/accel_stats.h"
 #include "accel/octree/octree_build.h"
 #include "accel/octree/octree_node.h"
-#include "accel/octree/octree_packet.h"
 #include "accel/octree/octree_traversal.h"
+#include "accel/packet_kernels.h"
 #include "core/intersect_triangle.h"
 #include "core/mesh.h"
 #include "simd/packet.h"
@@ -43,17 +43,17 @@ public:
     }
 
     /// Ray packets (octree_packet.h): per active lane, the same hit as intersect(ray) bit for bit,
-    /// into `hits` constructed from `rays`; the same answer as occluded(ray). Counters count per
-    /// packet (per ray for lanes traced singly).
+    /// into `hits` constructed from `rays`; the same answer as occluded(ray). Subtrees that at
+    /// most `single_ray_lanes` lanes enter are walked lane by lane (the default:
+    /// kOctreeSingleRayLanes). Counters count per packet (per ray for lanes traced singly).
+    /// Defined in octree_packet.h, instantiated in octree_packet_kernels.cpp: callers go through
+    /// PacketKernels (accel/packet_kernels.h).
     template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters>
-    void intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters) const {
-        traverse_octree_packet<OctreeQuery::closest_hit, Test, Slabs>(view(), rays, hits, counters);
-    }
+    void intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters,
+                   int single_ray_lanes = kDefaultSingleRayLanes) const;
     template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters>
-    typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters) const {
-        HitPacket<Arch> hits(rays);
-        return traverse_octree_packet<OctreeQuery::any_hit, Test, Slabs>(view(), rays, hits, counters);
-    }
+    typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters,
+                                            int single_ray_lanes = kDefaultSingleRayLanes) const;
 
     const AccelStats& stats() const { return stats_; }
     /// Empty unless the build left something out or stopped splitting early (to be printed).

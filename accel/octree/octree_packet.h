@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <xsimd/xsimd.hpp>
 
+#include "accel/octree/octree.h"
 #include "accel/octree/octree_build.h"
 #include "accel/octree/octree_node.h"
 #include "accel/octree/octree_packet_walk.h"
@@ -232,6 +233,21 @@ xsimd::batch_bool<float, Arch> traverse_octree_packet(const OctreeView& tree, co
                                                                   single_ray_lanes);
     }
     return found;
+}
+
+template <TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
+void Octree::intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters,
+                       int single_ray_lanes) const {
+    if (single_ray_lanes == kDefaultSingleRayLanes) single_ray_lanes = kOctreeSingleRayLanes<Arch>;
+    traverse_octree_packet<OctreeQuery::closest_hit, Test, Slabs>(view(), rays, hits, counters, single_ray_lanes);
+}
+
+template <TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
+typename RayPacket<Arch>::Mask Octree::occluded(const RayPacket<Arch>& rays, Counters& counters,
+                                                int single_ray_lanes) const {
+    if (single_ray_lanes == kDefaultSingleRayLanes) single_ray_lanes = kOctreeSingleRayLanes<Arch>;
+    HitPacket<Arch> hits(rays);
+    return traverse_octree_packet<OctreeQuery::any_hit, Test, Slabs>(view(), rays, hits, counters, single_ray_lanes);
 }
 
 }  // namespace trident

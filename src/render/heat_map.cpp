@@ -23,7 +23,7 @@ void count_tile_packets(const Structure& structure, const Camera& camera, const 
         const RayPacket<Arch> packet = block.rays();
         HitPacket<Arch> hits(packet);
         TraversalCounters counters;
-        structure.template intersect<Test>(packet, hits, counters);
+        intersect_packet(structure, packet, hits, counters, {.test = Test});
         block.for_each_pixel(tile, [&](std::uint32_t x, std::uint32_t y) {
             counts[std::size_t(y) * camera.width() + x] = counters;
         });

@@ -58,11 +58,12 @@ void trace_packet(const Structure& structure, const Rays& rays, std::span<const 
     const RayPacket<Arch> packet(std::span<const Ray>(lane_rays.data(), index.size()));
     NoCounters counters;
     if constexpr (AnyHit) {
-        const std::uint32_t bits = simd::mask_bits(structure.template occluded<Test, Slabs>(packet, counters));
+        const std::uint32_t bits =
+            simd::mask_bits(occlude_packet(structure, packet, counters, {.test = Test, .slabs = Slabs}));
         for (std::size_t k = 0; k < index.size(); ++k) out[rays.out_index(index[k])] = (bits >> k) & 1u;
     } else {
         HitPacket<Arch> hits(packet);
-        structure.template intersect<Test, Slabs>(packet, hits, counters);
+        intersect_packet(structure, packet, hits, counters, {.test = Test, .slabs = Slabs});
         std::array<Hit, kLanes> lane_hits;
         hits.store(std::span<Hit>(lane_hits.data(), index.size()));
         for (std::size_t k = 0; k < index.size(); ++k) out[rays.out_index(index[k])] = lane_hits[k];
@@ -124,12 +125,6 @@ void trace_stream_parallel(const AnyAccel& accel, std::span<const Ray> rays, std
 }
 
 }  // namespace
-
-Ray StridedRays::ray(std::size_t i) const {
-    const float* o = origins + i * origin_stride;
-    const float* d = directions + i * direction_stride;
-    return Ray{{o[0], o[1], o[2]}, {d[0], d[1], d[2]}, tmin, tmax};
-}
 
 void occlude_stream(const AnyAccel& accel, std::span<const Ray> rays, std::span<std::uint8_t> occluded,
                     StreamTraversal traversal, TriangleTest test) {

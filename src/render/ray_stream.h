@@ -41,7 +41,12 @@ struct StridedRays {
     float tmin = 0.0f;
     float tmax = kInfinity;
 
-    Ray ray(std::size_t i) const;
+    /// Inline: the Python module reads every ray through it twice (its check, the packet).
+    Ray ray(std::size_t i) const {
+        const float* o = origins + i * origin_stride;
+        const float* d = directions + i * direction_stride;
+        return Ray{{o[0], o[1], o[2]}, {d[0], d[1], d[2]}, tmin, tmax};
+    }
 };
 
 /// The rays rays.ray(order[k]) traced with their results written straight to position order[k]

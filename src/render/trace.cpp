@@ -39,7 +39,7 @@ void trace_tile_packets(const Structure& structure, const Camera& camera, const 
         const RayPacket<Arch> packet = block.rays();
         HitPacket<Arch> hits(packet);
         NoCounters counters;
-        structure.template intersect<Test, Slabs>(packet, hits, counters);
+        intersect_packet(structure, packet, hits, counters, {.test = Test, .slabs = Slabs});
         block.store(hits, tile, camera.width(), out);
     });
 }

@@ -3,13 +3,13 @@
 // ray_stream.h. Image tiles of 16x16 pixels are spread over oneTBB's threads; the caller sets the
 // thread count (tbb::global_control).
 #include <span>
-#include <utility>
 #include <vector>
 
 #include "accel/any_accel.h"
 #include "camera/camera.h"
 #include "core/intersect_triangle.h"
 #include "core/slab_test.h"
+#include "core/traversal_variant.h"
 #include "render/image_tiles.h"
 #include "simd/width.h"
 
@@ -36,24 +36,5 @@ bool has_packet_traversal(const AnyAccel& accel, SimdWidth width);
 std::vector<TraversalCounters> count_primary(const AnyAccel& accel, const Camera& camera,
                                              TriangleTest test = TriangleTest::watertight,
                                              SlabTest slabs = SlabTest::robust);
-
-/// Calls f(std::integral_constant<TriangleTest, T>{}) for the run-time choice, so kernels are
-/// instantiated for each test rather than branching per triangle.
-template <class F>
-decltype(auto) with_triangle_test(TriangleTest test, F&& f) {
-    if (test == TriangleTest::moller_trumbore)
-        return f(std::integral_constant<TriangleTest, TriangleTest::moller_trumbore>{});
-    return f(std::integral_constant<TriangleTest, TriangleTest::watertight>{});
-}
-
-/// Calls f(std::integral_constant<TriangleTest, T>{}, std::integral_constant<SlabTest, S>{}) for
-/// the run-time choices: the 2 x 2 grid of traversal variants the benchmark compares (issue 8).
-template <class F>
-decltype(auto) with_traversal_variant(TriangleTest test, SlabTest slabs, F&& f) {
-    return with_triangle_test(test, [&](auto test_tag) -> decltype(auto) {
-        if (slabs == SlabTest::fast) return f(test_tag, std::integral_constant<SlabTest, SlabTest::fast>{});
-        return f(test_tag, std::integral_constant<SlabTest, SlabTest::robust>{});
-    });
-}
 
 }  // namespace trident

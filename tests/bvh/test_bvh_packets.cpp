@@ -33,18 +33,19 @@ bool is_tie(const Mesh& mesh, const Ray& ray, const Hit& got, const Hit& expecte
     return hit && same_bits(h.t, got.t) && same_bits(h.u, got.u) && same_bits(h.v, got.v);
 }
 
-/// compare_packet_lanes() for the BVH's packets, with the single-ray switch at `SingleRayLanes`.
-/// Ties are allowed, but only between lanes of different octants (bvh_packet.h).
-template <class Arch, int SingleRayLanes, TriangleTest Test = TriangleTest::watertight,
-          SlabTest Slabs = SlabTest::robust>
-PacketComparison compare_packets(const Bvh& bvh, const Mesh& mesh, std::span<const Ray> rays,
+/// compare_packet_lanes() for the BVH's packets, with the single-ray switch at `single_ray_lanes`
+/// (kDefaultSingleRayLanes: the width's own). Ties are allowed, but only between lanes of different
+/// octants (bvh_packet.h).
+template <class Arch, TriangleTest Test = TriangleTest::watertight, SlabTest Slabs = SlabTest::robust>
+PacketComparison compare_packets(const Bvh& bvh, const Mesh& mesh, std::span<const Ray> rays, int single_ray_lanes,
                                  std::size_t rays_per_packet = 0, const LaneFilter& off = {}) {
     NoCounters none;
+    const PacketVariant variant{.test = Test, .slabs = Slabs, .single_ray_lanes = single_ray_lanes};
     return compare_packet_lanes<Arch>(
         rays, rays_per_packet, off,
         [&](const RayPacket<Arch>& packet, HitPacket<Arch>& hits) {
-            bvh.intersect<Test, Slabs, Arch, NoCounters, SingleRayLanes>(packet, hits, none);
-            return simd::mask_bits(bvh.occluded<Test, Slabs, Arch, NoCounters, SingleRayLanes>(packet, none));
+            intersect_packet(bvh, packet, hits, none, variant);
+            return simd::mask_bits(occlude_packet(bvh, packet, none, variant));
         },
         [&](const Ray& ray) { return bvh.intersect<Test, Slabs>(ray, none); },
         [&](const Ray& ray) { return bvh.occluded<Test, Slabs>(ray, none); },
@@ -60,9 +61,9 @@ std::size_t check_packets(const Bvh& bvh, const Mesh& mesh, std::span<const Ray>
     for_each_packet_arch([&]<class Arch>() {
         constexpr int width = int(RayPacket<Arch>::width);
         for (const PacketComparison& result :
-             {compare_packets<Arch, 0, Test, Slabs>(bvh, mesh, rays, rays_per_packet, off),
-              compare_packets<Arch, bvh::single_ray_lanes(width), Test, Slabs>(bvh, mesh, rays, rays_per_packet, off),
-              compare_packets<Arch, width, Test, Slabs>(bvh, mesh, rays, rays_per_packet, off)}) {
+             {compare_packets<Arch, Test, Slabs>(bvh, mesh, rays, 0, rays_per_packet, off),
+              compare_packets<Arch, Test, Slabs>(bvh, mesh, rays, kDefaultSingleRayLanes, rays_per_packet, off),
+              compare_packets<Arch, Test, Slabs>(bvh, mesh, rays, width, rays_per_packet, off)}) {
             CHECK(result.hits > 0);
             result.require_agreement();
             ties += result.ties;
@@ -156,7 +157,7 @@ TEST_CASE("lanes switched off or with an empty window come back untouched and ar
     SUBCASE("every lane switched off") {
         for_each_packet_arch([&]<class Arch>() {
             const PacketComparison result =
-                compare_packets<Arch, 0>(bvh, mesh, rays, 0, [](std::size_t) { return true; });
+                compare_packets<Arch>(bvh, mesh, rays, 0, 0, [](std::size_t) { return true; });
             CHECK(result.lanes == 0);
             CHECK(result.untouched == 0);
             CHECK(result.padding == 0);
@@ -177,7 +178,7 @@ TEST_CASE("an empty BVH leaves every lane a miss and occludes nothing") {
     const Bvh bvh = Bvh::build(mesh);
     const std::vector<Ray> rays = random_rays({{-1.0f, -1.0f, -1.0f}, {1.0f, 1.0f, 1.0f}}, 16, 81);
     for_each_packet_arch([&]<class Arch>() {
-        const PacketComparison result = compare_packets<Arch, 0>(bvh, mesh, rays);
+        const PacketComparison result = compare_packets<Arch>(bvh, mesh, rays, 0);
         CHECK(result.lanes == rays.size());
         CHECK(result.hits == 0);
         result.require_agreement();
@@ -198,8 +199,8 @@ TEST_CASE(
             const std::vector<Ray> random = camera_rays(scene.camera, 160, 92);
             for (const std::span<const Ray> rays : {std::span<const Ray>(blocks), std::span<const Ray>(random)}) {
                 for (const PacketComparison& result :
-                     {compare_packets<Arch, 0>(bvh, scene.mesh, rays),
-                      compare_packets<Arch, bvh::single_ray_lanes(width)>(bvh, scene.mesh, rays)}) {
+                     {compare_packets<Arch>(bvh, scene.mesh, rays, 0),
+                      compare_packets<Arch>(bvh, scene.mesh, rays, kDefaultSingleRayLanes)}) {
                     CHECK(result.hits > 0);
                     result.require_agreement();
                 }
@@ -222,8 +223,7 @@ TEST_CASE("the counters count per packet: at least the busiest lane's work, at m
             const RayPacket<Arch> packet(chunk);
             HitPacket<Arch> hits(packet);
             TraversalCounters one_packet;
-            bvh.intersect<TriangleTest::watertight, SlabTest::robust, Arch, TraversalCounters, 0>(packet, hits,
-                                                                                                  one_packet);
+            intersect_packet(bvh, packet, hits, one_packet, {.single_ray_lanes = 0});
             tally.add(one_packet, chunk, [&](const Ray& ray, TraversalCounters& one_ray) {
                 bvh.intersect<TriangleTest::watertight>(ray, one_ray);
             });
@@ -244,9 +244,8 @@ TEST_CASE("an any-hit packet stops each lane at its first hit: no more triangle 
         for (std::size_t first = 0; first < rays.size(); first += width) {
             const RayPacket<Arch> packet(std::span<const Ray>(rays).subspan(first, width));
             HitPacket<Arch> hits(packet);
-            bvh.intersect<TriangleTest::watertight, SlabTest::robust, Arch, TraversalCounters, 0>(packet, hits,
-                                                                                                  closest);
-            bvh.occluded<TriangleTest::watertight, SlabTest::robust, Arch, TraversalCounters, 0>(packet, any);
+            intersect_packet(bvh, packet, hits, closest, {.single_ray_lanes = 0});
+            occlude_packet(bvh, packet, any, {.single_ray_lanes = 0});
         }
         CHECK(any.triangles_tested < closest.triangles_tested);
         CHECK(any.nodes_visited < closest.nodes_visited);

@@ -134,20 +134,19 @@ void check_packets(const WideBvh<Width, BlockSize>& wide, std::span<const Ray> r
     NoCounters none;
     for_each_packet_arch([&]<class Arch>() {
         constexpr int lanes = int(RayPacket<Arch>::width);
-        const auto compare = [&]<int SingleRayLanes>() {
-            return compare_packet_lanes<Arch>(
+        for (const int single_ray_lanes : {0, 1, lanes}) {
+            CAPTURE(single_ray_lanes);
+            const PacketVariant variant{.test = Test, .slabs = Slabs, .single_ray_lanes = single_ray_lanes};
+            compare_packet_lanes<Arch>(
                 rays, 0, off,
                 [&](const RayPacket<Arch>& packet, HitPacket<Arch>& hits) {
-                    wide.template intersect<Test, Slabs, Arch, NoCounters, SingleRayLanes>(packet, hits, none);
-                    return simd::mask_bits(
-                        wide.template occluded<Test, Slabs, Arch, NoCounters, SingleRayLanes>(packet, none));
+                    intersect_packet(wide, packet, hits, none, variant);
+                    return simd::mask_bits(occlude_packet(wide, packet, none, variant));
                 },
                 [&](const Ray& ray) { return wide.template intersect<Test, Slabs>(ray, none); },
-                [&](const Ray& ray) { return wide.template occluded<Test, Slabs>(ray, none); });
-        };
-        compare.template operator()<0>().require_agreement();
-        compare.template operator()<1>().require_agreement();
-        compare.template operator()<lanes>().require_agreement();
+                [&](const Ray& ray) { return wide.template occluded<Test, Slabs>(ray, none); })
+                .require_agreement();
+        }
     });
 }
 

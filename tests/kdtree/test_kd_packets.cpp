@@ -28,17 +28,17 @@ using namespace trident::testing;
 namespace {
 
 /// compare_packet_lanes() for the kd-tree's packets, with the single-ray switch at
-/// `SingleRayLanes`; no ties allowed (kd_packet.h).
-template <class Arch, int SingleRayLanes, TriangleTest Test = TriangleTest::watertight,
-          SlabTest Slabs = SlabTest::robust>
-PacketComparison compare_packets(const KdTree& tree, std::span<const Ray> rays, std::size_t rays_per_packet = 0,
-                                 const LaneFilter& off = {}) {
+/// `single_ray_lanes`; no ties allowed (kd_packet.h).
+template <class Arch, TriangleTest Test = TriangleTest::watertight, SlabTest Slabs = SlabTest::robust>
+PacketComparison compare_packets(const KdTree& tree, std::span<const Ray> rays, int single_ray_lanes,
+                                 std::size_t rays_per_packet = 0, const LaneFilter& off = {}) {
     NoCounters none;
+    const PacketVariant variant{.test = Test, .slabs = Slabs, .single_ray_lanes = single_ray_lanes};
     return compare_packet_lanes<Arch>(
         rays, rays_per_packet, off,
         [&](const RayPacket<Arch>& packet, HitPacket<Arch>& hits) {
-            tree.intersect<Test, Slabs, Arch, NoCounters, SingleRayLanes>(packet, hits, none);
-            return simd::mask_bits(tree.occluded<Test, Slabs, Arch, NoCounters, SingleRayLanes>(packet, none));
+            intersect_packet(tree, packet, hits, none, variant);
+            return simd::mask_bits(occlude_packet(tree, packet, none, variant));
         },
         [&](const Ray& ray) { return tree.intersect<Test, Slabs>(ray, none); },
         [&](const Ray& ray) { return tree.occluded<Test, Slabs>(ray, none); });
@@ -52,9 +52,9 @@ void check_packets(const KdTree& tree, std::span<const Ray> rays, const LaneFilt
     for_each_packet_arch([&]<class Arch>() {
         constexpr int width = int(RayPacket<Arch>::width);
         for (const PacketComparison& result :
-             {compare_packets<Arch, 0, Test, Slabs>(tree, rays, rays_per_packet, off),
-              compare_packets<Arch, width / 4, Test, Slabs>(tree, rays, rays_per_packet, off),
-              compare_packets<Arch, width, Test, Slabs>(tree, rays, rays_per_packet, off)}) {
+             {compare_packets<Arch, Test, Slabs>(tree, rays, 0, rays_per_packet, off),
+              compare_packets<Arch, Test, Slabs>(tree, rays, width / 4, rays_per_packet, off),
+              compare_packets<Arch, Test, Slabs>(tree, rays, width, rays_per_packet, off)}) {
             CHECK(result.hits > 0);
             result.require_agreement();
         }
@@ -177,7 +177,7 @@ TEST_CASE("lanes switched off or with an empty window come back untouched and ar
     }
     SUBCASE("every lane switched off") {
         for_each_packet_arch([&]<class Arch>() {
-            const PacketComparison result = compare_packets<Arch, 0>(tree, rays, 0, [](std::size_t) { return true; });
+            const PacketComparison result = compare_packets<Arch>(tree, rays, 0, 0, [](std::size_t) { return true; });
             CHECK(result.lanes == 0);
             CHECK(result.untouched == 0);
             CHECK(result.padding == 0);
@@ -198,7 +198,7 @@ TEST_CASE("an empty kd-tree leaves every lane a miss and occludes nothing") {
     const KdTree tree = KdTree::build(mesh);
     const std::vector<Ray> rays = random_rays({{-1.0f, -1.0f, -1.0f}, {1.0f, 1.0f, 1.0f}}, 16, 81);
     for_each_packet_arch([&]<class Arch>() {
-        const PacketComparison result = compare_packets<Arch, 0>(tree, rays);
+        const PacketComparison result = compare_packets<Arch>(tree, rays, 0);
         CHECK(result.lanes == rays.size());
         CHECK(result.hits == 0);
         CHECK(result.closest == 0);
@@ -226,7 +226,7 @@ TEST_CASE(
             const std::vector<Ray> random = camera_rays(scene.camera, 160, 92);
             for (const std::span<const Ray> rays : {std::span<const Ray>(blocks), std::span<const Ray>(random)}) {
                 for (const PacketComparison& result :
-                     {compare_packets<Arch, 0>(tree, rays), compare_packets<Arch, width / 4>(tree, rays)}) {
+                     {compare_packets<Arch>(tree, rays, 0), compare_packets<Arch>(tree, rays, width / 4)}) {
                     CHECK(result.hits > 0);
                     result.require_agreement();
                 }
@@ -248,8 +248,7 @@ TEST_CASE("the counters count per packet: at least the busiest lane's work, at m
             if (!packet.shares_octant()) continue;  // octant groups each walk the tree
             HitPacket<Arch> hits(packet);
             TraversalCounters one_packet;
-            tree.intersect<TriangleTest::watertight, SlabTest::robust, Arch, TraversalCounters, 0>(packet, hits,
-                                                                                                   one_packet);
+            intersect_packet(tree, packet, hits, one_packet, {.single_ray_lanes = 0});
             tally.add(one_packet, chunk, [&](const Ray& ray, TraversalCounters& one_ray) {
                 tree.intersect<TriangleTest::watertight>(ray, one_ray);
             });
@@ -269,9 +268,8 @@ TEST_CASE("an any-hit packet retires each lane at its first hit: less work than 
         for (std::size_t first = 0; first < rays.size(); first += width) {
             const RayPacket<Arch> packet(std::span<const Ray>(rays).subspan(first, width));
             HitPacket<Arch> hits(packet);
-            tree.intersect<TriangleTest::watertight, SlabTest::robust, Arch, TraversalCounters, 0>(packet, hits,
-                                                                                                   closest);
-            (void)tree.occluded<TriangleTest::watertight, SlabTest::robust, Arch, TraversalCounters, 0>(packet, any);
+            intersect_packet(tree, packet, hits, closest, {.single_ray_lanes = 0});
+            (void)occlude_packet(tree, packet, any, {.single_ray_lanes = 0});
         }
         CHECK(any.triangles_tested < closest.triangles_tested);
         CHECK(any.nodes_visited < closest.nodes_visited);

@@ -7,13 +7,13 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
-#include <optional>
 #include <random>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "accel/octree/octree.h"
+#include "accel/octree/octree_packet.h"
 #include "octree/octree_meshes.h"
 #include "octree/octree_test_support.h"
 #include "simd/each_arch.h"
@@ -31,25 +31,19 @@ using namespace trident::testing;
 
 namespace {
 
-/// compare_packet_lanes() for the octree's packets; no ties allowed (octree_packet.h). With
-/// `single_ray_lanes`, traces through traverse_octree_packet() with that switch to single rays
-/// instead of the structure's members.
+/// compare_packet_lanes() for the octree's packets, with the single-ray switch at
+/// `single_ray_lanes` (kDefaultSingleRayLanes: kOctreeSingleRayLanes); no ties allowed
+/// (octree_packet.h).
 template <class Arch, TriangleTest Test = TriangleTest::watertight, SlabTest Slabs = SlabTest::robust>
 PacketComparison compare_packets(const Octree& tree, std::span<const Ray> rays, std::size_t rays_per_packet = 0,
-                                 const LaneFilter& off = {}, std::optional<int> single_ray_lanes = {}) {
+                                 const LaneFilter& off = {}, int single_ray_lanes = kDefaultSingleRayLanes) {
     NoCounters none;
+    const PacketVariant variant{.test = Test, .slabs = Slabs, .single_ray_lanes = single_ray_lanes};
     return compare_packet_lanes<Arch>(
         rays, rays_per_packet, off,
         [&](const RayPacket<Arch>& packet, HitPacket<Arch>& hits) {
-            if (!single_ray_lanes) {
-                tree.intersect<Test, Slabs>(packet, hits, none);
-                return simd::mask_bits(tree.occluded<Test, Slabs>(packet, none));
-            }
-            traverse_octree_packet<OctreeQuery::closest_hit, Test, Slabs>(tree.view(), packet, hits, none,
-                                                                          *single_ray_lanes);
-            HitPacket<Arch> any(packet);
-            return simd::mask_bits(traverse_octree_packet<OctreeQuery::any_hit, Test, Slabs>(tree.view(), packet, any,
-                                                                                             none, *single_ray_lanes));
+            intersect_packet(tree, packet, hits, none, variant);
+            return simd::mask_bits(occlude_packet(tree, packet, none, variant));
         },
         [&](const Ray& ray) { return tree.intersect<Test, Slabs>(ray, none); },
         [&](const Ray& ray) { return tree.occluded<Test, Slabs>(ray, none); });
@@ -147,9 +141,9 @@ TEST_CASE("a packet of one ray in every lane does exactly the single ray's work,
             HitPacket<Arch> hits(packet);
             TraversalCounters single, packed, single_any, packed_any;
             const Hit expected = tree.intersect<TriangleTest::watertight>(ray, single);
-            tree.intersect<TriangleTest::watertight>(packet, hits, packed);
+            intersect_packet(tree, packet, hits, packed);
             tree.occluded<TriangleTest::watertight>(ray, single_any);
-            tree.occluded<TriangleTest::watertight>(packet, packed_any);
+            occlude_packet(tree, packet, packed_any);
             different_work += single.nodes_visited != packed.nodes_visited ||
                               single.triangles_tested != packed.triangles_tested ||
                               single_any.nodes_visited != packed_any.nodes_visited ||
@@ -251,7 +245,7 @@ TEST_CASE("the counters count per packet: at least the busiest lane's work, at m
             const RayPacket<Arch> packet(chunk);
             HitPacket<Arch> hits(packet);
             TraversalCounters one_packet;
-            tree.intersect<TriangleTest::watertight>(packet, hits, one_packet);
+            intersect_packet(tree, packet, hits, one_packet);
             tally.add(one_packet, chunk, [&](const Ray& ray, TraversalCounters& one_ray) {
                 tree.intersect<TriangleTest::watertight>(ray, one_ray);
             });

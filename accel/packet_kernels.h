@@ -1,0 +1,59 @@
+#pragma once
+// The structures' packet traversals as the renderer, the benchmark, the Python module and the tests
+// call them: PacketKernels<Structure, Arch>, whose members are defined and instantiated once, in
+// the structure's own translation unit (accel/packet_kernel_instances.h), for every compiled-in
+// architecture. Every caller instantiating the traversal kernels again made them the bulk of the
+// build: about 300 of the Release build's 742 CPU seconds and 640 of the sanitizer build's 1,377
+// (bench/experiments/test_time.md). The same seam is where per-ISA kernels are chosen (issue 34).
+//
+// The triangle test, the slab test and the single-ray threshold are run-time arguments here and
+// compile-time ones inside: one switch per packet, against thousands of cycles of traversal.
+#include "accel/accel_stats.h"
+#include "core/intersect_triangle.h"
+#include "core/slab_test.h"
+#include "simd/packet.h"
+
+namespace trident {
+
+/// The structure's own threshold for the packet's width: its measured best.
+inline constexpr int kDefaultSingleRayLanes = -1;
+
+/// Which packet traversal: the triangle and slab tests, and the subtrees traced ray by ray (those
+/// that at most `single_ray_lanes` lanes need; kDefaultSingleRayLanes for the structure's choice,
+/// 0 for none). The brute force has no subtrees and ignores it.
+struct PacketVariant {
+    TriangleTest test = TriangleTest::watertight;
+    SlabTest slabs = SlabTest::robust;
+    int single_ray_lanes = kDefaultSingleRayLanes;
+};
+
+/// Closest hit per live lane into `hits` (constructed from the rays), or the lanes that hit
+/// anything: per lane what the structure's single-ray traversal answers (each structure's header
+/// says where that holds bit for bit). Counters count per packet.
+template <class Structure, class Arch>
+struct PacketKernels {
+    using Rays = RayPacket<Arch>;
+    using Hits = HitPacket<Arch>;
+    using Mask = typename Rays::Mask;
+    static void intersect(const Structure& structure, const Rays& rays, Hits& hits, NoCounters& counters,
+                          PacketVariant variant);
+    static void intersect(const Structure& structure, const Rays& rays, Hits& hits, TraversalCounters& counters,
+                          PacketVariant variant);
+    static Mask occluded(const Structure& structure, const Rays& rays, NoCounters& counters, PacketVariant variant);
+    static Mask occluded(const Structure& structure, const Rays& rays, TraversalCounters& counters,
+                         PacketVariant variant);
+};
+
+/// The same with the structure and the architecture deduced.
+template <class Structure, class Arch, class Counters>
+void intersect_packet(const Structure& structure, const RayPacket<Arch>& rays, HitPacket<Arch>& hits,
+                      Counters& counters, PacketVariant variant = {}) {
+    PacketKernels<Structure, Arch>::intersect(structure, rays, hits, counters, variant);
+}
+template <class Structure, class Arch, class Counters>
+typename RayPacket<Arch>::Mask occlude_packet(const Structure& structure, const RayPacket<Arch>& rays,
+                                              Counters& counters, PacketVariant variant = {}) {
+    return PacketKernels<Structure, Arch>::occluded(structure, rays, counters, variant);
+}
+
+}  // namespace trident
