@@ -29,7 +29,8 @@ struct PacketVariant {
 
 /// Closest hit per live lane into `hits` (constructed from the rays), or the lanes that hit
 /// anything: per lane what the structure's single-ray traversal answers (each structure's header
-/// says where that holds bit for bit). Counters count per packet.
+/// says where that holds bit for bit). Counters count per packet; counted traversals take the
+/// robust slab test only (std::invalid_argument for the fast one).
 template <class Structure, class Arch>
 struct PacketKernels {
     using Rays = RayPacket<Arch>;

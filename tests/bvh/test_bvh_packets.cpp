@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <random>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 #include "bvh_test_helpers.h"
@@ -230,6 +231,12 @@ TEST_CASE("the counters count per packet: at least the busiest lane's work, at m
         }
         CHECK(tally.counted > 40);
         tally.require_bounds();
+        // Counted packet traversals are compiled for the robust slab test only: the fast one is refused.
+        const RayPacket<Arch> packet(std::span<const Ray>(rays).first(width));
+        HitPacket<Arch> hits(packet);
+        TraversalCounters counters;
+        CHECK_THROWS_AS(intersect_packet(bvh, packet, hits, counters, {.slabs = SlabTest::fast}),
+                        std::invalid_argument);
     });
 }
 
