@@ -1,5 +1,7 @@
 #include "simd/width.h"
 
+#include <cstdlib>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 
@@ -21,7 +23,74 @@ const char* instruction_set(SimdWidth width) {
     return "none";
 }
 
+IsaLevel level_of(SimdWidth width) {
+    switch (width) {
+        case SimdWidth::w16:
+            return IsaLevel::avx512;
+        case SimdWidth::w8:
+            return IsaLevel::avx2;
+        case SimdWidth::w4:
+        case SimdWidth::scalar:
+            break;
+    }
+    return IsaLevel::sse4;
+}
+
+constexpr std::array<IsaLevel, 3> kIsaLevels = {IsaLevel::sse4, IsaLevel::avx2, IsaLevel::avx512};
+
+/// The cap: read from TRIDENT_ISA once, unless set_isa_cap() came first.
+struct CapState {
+    std::once_flag read;
+    std::optional<IsaLevel> cap;
+};
+CapState& cap_state() {
+    static CapState state;
+    return state;
+}
+
+std::optional<IsaLevel> read_isa_environment() {
+    const char* text = std::getenv("TRIDENT_ISA");
+    if (text == nullptr || *text == '\0') return std::nullopt;
+    if (const auto level = parse_isa_level(text)) return level;
+    throw std::runtime_error(std::string("TRIDENT_ISA=") + text + ": expected sse4, avx2 or avx512");
+}
+
 }  // namespace
+
+const char* to_string(IsaLevel level) {
+    switch (level) {
+        case IsaLevel::avx2:
+            return "avx2";
+        case IsaLevel::avx512:
+            return "avx512";
+        case IsaLevel::sse4:
+            break;
+    }
+    return "sse4";
+}
+
+std::optional<IsaLevel> parse_isa_level(std::string_view text) {
+    for (const IsaLevel level : kIsaLevels)
+        if (text == to_string(level)) return level;
+    return std::nullopt;
+}
+
+std::optional<IsaLevel> isa_cap() {
+    CapState& state = cap_state();
+    std::call_once(state.read, [&] { state.cap = read_isa_environment(); });
+    return state.cap;
+}
+
+void set_isa_cap(std::optional<IsaLevel> cap) {
+    CapState& state = cap_state();
+    std::call_once(state.read, [] {});
+    state.cap = cap;
+}
+
+bool cap_allows(SimdWidth width) {
+    const auto cap = isa_cap();
+    return width == SimdWidth::scalar || !cap || level_of(width) <= *cap;
+}
 
 const char* to_string(SimdWidth width) {
     switch (width) {
@@ -67,12 +136,19 @@ SimdWidth widest_supported() {
     return SimdWidth::scalar;
 }
 
+std::string unavailable_reason(SimdWidth width) {
+    if (!is_compiled_in(width)) return std::string("this binary was built without ") + instruction_set(width) + " kernels";
+    if (!cpu_supports(width)) return std::string("this CPU lacks ") + instruction_set(width);
+    if (!cap_allows(width))
+        return std::string("TRIDENT_ISA=") + to_string(*isa_cap()) + " caps the instruction sets below " +
+               instruction_set(width);
+    return "it is available";
+}
+
 namespace detail {
 
 void throw_width_unavailable(SimdWidth width) {
-    const std::string why = is_compiled_in(width)
-                                ? std::string("this CPU lacks ") + instruction_set(width)
-                                : std::string("this binary was built without ") + instruction_set(width) + " kernels";
+    const std::string why = unavailable_reason(width);
     throw std::runtime_error(std::string("SIMD width ") + to_string(width) + " is not available: " + why);
 }
 

@@ -2,8 +2,6 @@
 
 #include <chrono>
 
-#include "accel/packet_kernel_instances.h"
-
 namespace trident {
 
 BruteForce BruteForce::build(const Mesh& mesh) {
@@ -20,15 +18,5 @@ BruteForce BruteForce::build(const Mesh& mesh) {
     out.stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return out;
 }
-
-#if XSIMD_WITH_SSE4_2
-template struct PacketKernels<BruteForce, xsimd::sse4_2>;
-#endif
-#if XSIMD_WITH_AVX2
-template struct PacketKernels<BruteForce, xsimd::avx2>;
-#endif
-#if XSIMD_WITH_AVX512BW
-template struct PacketKernels<BruteForce, xsimd::avx512bw>;
-#endif
 
 }  // namespace trident

@@ -24,11 +24,8 @@ constexpr std::uint32_t kBinningGrain = 1u << 13;
 /// Binning touches every reference on every level, so it works on whole boxes. A bin stores its
 /// box as lo and -hi in eight lanes (x, y, z and a spare lane each), so that one min grows both
 /// corners (Embree's binner keeps boxes the same way).
-using Float8 = xsimd::make_sized_batch_t<float, 8>;
 using Float4 = xsimd::make_sized_batch_t<float, 4>;
 using Int4 = xsimd::make_sized_batch_t<std::int32_t, 4>;
-
-Float8 load_whole(const PrimitiveRef& ref) { return Float8::load_aligned(reinterpret_cast<const float*>(&ref)); }
 
 /// `lo` with lane 3 zeroed: it holds the id's bits, which read as a denormal float for most ids,
 /// and arithmetic on denormals is many times slower.
@@ -37,6 +34,11 @@ Float4 load_lo(const PrimitiveRef& ref) {
     return Float4::load_aligned(reinterpret_cast<const float*>(&ref)) & xyz;
 }
 Float4 load_hi(const PrimitiveRef& ref) { return Float4::load_aligned(reinterpret_cast<const float*>(&ref) + 4); }
+
+#if XSIMD_WITH_AVX
+using Float8 = xsimd::make_sized_batch_t<float, 8>;
+
+Float8 load_whole(const PrimitiveRef& ref) { return Float8::load_aligned(reinterpret_cast<const float*>(&ref)); }
 
 /// A reference's box as lo, -hi, with the id's lane zeroed (see load_lo); lanes 3 and 7 are
 /// never read.
@@ -47,13 +49,40 @@ Float8 load_lo_negated_hi(const PrimitiveRef& ref) {
     return (load_whole(ref) & xyz) ^ negate_hi;
 }
 
+Float8 lanes_min(const Float8& a, const Float8& b) { return xsimd::min(a, b); }
+#else
+/// Without AVX (the portable build's SSE4.2 baseline) the eight lanes are two halves, each
+/// operation done on both: the same bits as the one 8-lane batch.
+struct Float8 {
+    Float4 lo, hi;
+
+    explicit Float8(float v) : lo(v), hi(v) {}
+    Float8(const Float4& lo_, const Float4& hi_) : lo(lo_), hi(hi_) {}
+    static Float8 load_aligned(const float* p) { return {Float4::load_aligned(p), Float4::load_aligned(p + 4)}; }
+    void store_aligned(float* p) const {
+        lo.store_aligned(p);
+        hi.store_aligned(p + 4);
+    }
+};
+
+Float8 load_whole(const PrimitiveRef& ref) { return Float8::load_aligned(reinterpret_cast<const float*>(&ref)); }
+
+Float8 load_lo_negated_hi(const PrimitiveRef& ref) {
+    const Float4 xyz = xsimd::bitwise_cast<Float4>(Int4{-1, -1, -1, 0});
+    const Float4 negate = xsimd::bitwise_cast<Float4>(Int4{INT32_MIN, INT32_MIN, INT32_MIN, 0});
+    return {load_lo(ref), (load_hi(ref) & xyz) ^ negate};
+}
+
+Float8 lanes_min(const Float8& a, const Float8& b) { return {xsimd::min(a.lo, b.lo), xsimd::min(a.hi, b.hi)}; }
+#endif
+
 /// The union of a bin's boxes as lo and -hi. Plain floats keep it trivially constructible, so a
 /// node clears only the bins it uses.
 struct alignas(32) BinBox {
     float lo_negated_hi[8];
 
     void clear() { Float8(kInfinity).store_aligned(lo_negated_hi); }
-    void add(const Float8& box) { xsimd::min(Float8::load_aligned(lo_negated_hi), box).store_aligned(lo_negated_hi); }
+    void add(const Float8& box) { lanes_min(Float8::load_aligned(lo_negated_hi), box).store_aligned(lo_negated_hi); }
     void add(const BinBox& other) { add(Float8::load_aligned(other.lo_negated_hi)); }
     Float4 lo() const { return Float4::load_aligned(lo_negated_hi); }
     Float4 negated_hi() const { return Float4::load_aligned(lo_negated_hi + 4); }

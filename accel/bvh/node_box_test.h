@@ -4,7 +4,8 @@
 // written over a value type) applied to the three axes at once, then the lanes reduced. About a
 // third of the instructions of three scalar slabs, in the loop that dominates traversal. Slabs
 // picks the robust or the fast formula (core/slab_test.h). enters_pair tests a node's two
-// children at once in the two halves of an 8-wide vector (AVX, which every supported build has).
+// children at once in the two halves of an 8-wide vector where the file has AVX; the portable
+// build's SSE4.2 baseline tests them one after the other, with the same bits.
 #include <immintrin.h>
 
 #include <cstdint>
@@ -29,9 +30,11 @@ public:
         origin_ = Float4{slab.origin.x, slab.origin.y, slab.origin.z, 0.0f};
         inv_dir_ = Float4{slab.inv_dir.x, slab.inv_dir.y, slab.inv_dir.z, 0.0f};
         negative_ = inv_dir_ < Float4(0.0f);
+#if XSIMD_WITH_AVX2
         origin8_ = pair(origin_, origin_);
         inv_dir8_ = pair(inv_dir_, inv_dir_);
         negative8_ = inv_dir8_ < Float8(0.0f);
+#endif
     }
 
     /// As intersect_slabs: whether [t_min, t_max] meets the node's box, its entry distance in t_entry.
@@ -56,6 +59,9 @@ public:
     /// Returns a bit per node entered (1: first, 2: second).
     unsigned enters_pair(const BvhNode& first, const BvhNode& second, float t_min, float t_max, float& t_first,
                          float& t_second) const {
+#if !XSIMD_WITH_AVX2
+        return unsigned(enters(first, t_min, t_max, t_first)) | unsigned(enters(second, t_min, t_max, t_second)) << 1;
+#else
         const Float8 lo = pair(load_xyz(&first.bounds.lo.x), load_xyz(&second.bounds.lo.x));
         const Float8 hi = pair(load_xyz(&first.bounds.hi.x), load_xyz(&second.bounds.hi.x));
         Float8 entry(t_min), exit(t_max);
@@ -72,13 +78,16 @@ public:
         t_second = _mm_cvtss_f32(_mm256_extractf128_ps(largest, 1));
         const unsigned inside = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(largest, smallest, _CMP_LE_OQ)));
         return (inside & 1u) | (inside >> 3 & 2u);
+#endif
     }
 
 private:
+#if XSIMD_WITH_AVX2
     using Float8 = xsimd::batch<float, xsimd::avx2>;
     // _mm256_permute_ps orders: lanes (y, z, x, w) and (z, x, y, w) of each half.
     static constexpr int kYzx = 1 | 2 << 2 | 0 << 4 | 3 << 6, kZxy = 2 | 0 << 2 | 1 << 4 | 3 << 6;
     static Float8 pair(const Float4& low, const Float4& high) { return Float8(_mm256_set_m128(high, low)); }
+#endif
 
     /// x, y, z from memory and a zero: the fourth float read is the next field of the node
     /// (bounds.hi.x after lo, the index after hi).
@@ -99,8 +108,10 @@ private:
 
     Float4 origin_, inv_dir_;
     xsimd::batch_bool<float, Arch> negative_;  // per axis: 1 / dir < 0 (dir -0 included)
+#if XSIMD_WITH_AVX2
     Float8 origin8_, inv_dir8_;                // the same, twice, for enters_pair
     xsimd::batch_bool<float, xsimd::avx2> negative8_;
+#endif
 };
 
 }  // namespace trident::bvh

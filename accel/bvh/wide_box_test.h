@@ -9,6 +9,7 @@
 // return their second operand for NaN (core/slab_test.h, clip_to_ordered_slab). Fast: the same
 // without the widening. Either way an unused slot's empty box [+inf, -inf] has its near plane at
 // +inf along the ray, so no ray enters it.
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -35,11 +36,21 @@ T prune_limit(const T& t_closest) {
     return t_closest * T(kPruneSlack);
 }
 
+/// A node's Width slots as the widest batches the file's instruction set has: one batch of Width
+/// where it holds one (8 slots on AVX2 and above), else Width / kChunk batches (the portable
+/// build's baseline, SSE4.2, tests an 8-wide node as two halves). Either way each slot sees the
+/// same operations, so the answer is the same bits.
+template <std::size_t Width>
+inline constexpr std::size_t kNodeChunk = std::min(Width, xsimd::batch<float>::size);
+template <std::size_t Width>
+using NodeChunkFloat = xsimd::make_sized_batch_t<float, kNodeChunk<Width>>;
+
 template <std::size_t Width, SlabTest Slabs>
 class WideBoxTest {
 public:
-    using Float = xsimd::make_sized_batch_t<float, Width>;
-    static_assert(Float::size == Width, "no vector of this width on the target");
+    using Float = NodeChunkFloat<Width>;
+    static constexpr std::size_t kChunk = kNodeChunk<Width>;
+    static_assert(Float::size == kChunk && Width % kChunk == 0, "no vector of this width on the target");
 
     explicit WideBoxTest(const Ray& ray) {
         for (int axis = 0; axis < 3; ++axis) {
@@ -55,14 +66,18 @@ public:
     /// Bit k set when child k's box meets [t_min, t_max]; its entry distance in t_entry[k].
     std::uint32_t enter(const WideNode<Width>& node, float t_min, float t_max,
                         std::array<float, Width>& t_entry) const {
-        Float entry(t_min), exit(t_max);
-        for (int axis = 0; axis < 3; ++axis) {
-            detail::clip_to_ordered_slab<Slabs>(Float::load_aligned(node.bounds[near_row_[axis]]),
-                                                Float::load_aligned(node.bounds[far_row_[axis]]), origin_[axis],
-                                                inv_dir_[axis], entry, exit);
+        std::uint32_t entered = 0;
+        for (std::size_t first = 0; first < Width; first += kChunk) {
+            Float entry(t_min), exit(t_max);
+            for (int axis = 0; axis < 3; ++axis) {
+                detail::clip_to_ordered_slab<Slabs>(Float::load_aligned(node.bounds[near_row_[axis]] + first),
+                                                    Float::load_aligned(node.bounds[far_row_[axis]] + first),
+                                                    origin_[axis], inv_dir_[axis], entry, exit);
+            }
+            entry.store_unaligned(t_entry.data() + first);
+            entered |= simd::mask_bits(entry <= exit) << first;
         }
-        entry.store_unaligned(t_entry.data());
-        return simd::mask_bits(entry <= exit);
+        return entered;
     }
 
 private:

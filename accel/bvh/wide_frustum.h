@@ -17,6 +17,7 @@
 #include <optional>
 #include <xsimd/xsimd.hpp>
 
+#include "accel/bvh/wide_box_test.h"
 #include "accel/bvh/wide_node.h"
 #include "core/slab_test.h"
 #include "simd/lanes.h"
@@ -58,7 +59,8 @@ struct RayGroupBounds {
 template <std::size_t Width, SlabTest Slabs>
 class WideFrustumTest {
 public:
-    using Float = xsimd::make_sized_batch_t<float, Width>;
+    using Float = NodeChunkFloat<Width>;  // a whole node, or halves of it (wide_box_test.h)
+    static constexpr std::size_t kChunk = kNodeChunk<Width>;
 
     explicit WideFrustumTest(const RayGroupBounds& group) : tmin_lo_(group.tmin_lo) {
         for (int axis = 0; axis < 3; ++axis) {
@@ -75,22 +77,26 @@ public:
     /// clear only where none can. entry_lo[k]: at most any ray's entry distance into child k.
     std::uint32_t may_enter(const WideNode<Width>& node, float t_max_hi, std::array<float, Width>& entry_lo) const {
         using L = Lanes<Float>;
-        Float entry(tmin_lo_), exit(t_max_hi);
-        for (int axis = 0; axis < 3; ++axis) {
-            const Float near = Float::load_aligned(node.bounds[near_row_[axis]]);
-            const Float far = Float::load_aligned(node.bounds[far_row_[axis]]);
-            const Float near_lo = near - origin_hi_[axis], near_hi = near - origin_lo_[axis];
-            const Float far_lo = far - origin_hi_[axis], far_hi = far - origin_lo_[axis];
-            const Float smallest_near = L::min(L::min(near_lo * inv_lo_[axis], near_lo * inv_hi_[axis]),
-                                               L::min(near_hi * inv_lo_[axis], near_hi * inv_hi_[axis]));
-            Float largest_far = L::max(L::max(far_lo * inv_lo_[axis], far_lo * inv_hi_[axis]),
-                                       L::max(far_hi * inv_lo_[axis], far_hi * inv_hi_[axis]));
-            if constexpr (Slabs == SlabTest::robust) largest_far = largest_far * Float(detail::kFarScale);
-            entry = L::max(smallest_near, entry);
-            exit = L::min(largest_far, exit);
+        std::uint32_t may = 0;
+        for (std::size_t first = 0; first < Width; first += kChunk) {
+            Float entry(tmin_lo_), exit(t_max_hi);
+            for (int axis = 0; axis < 3; ++axis) {
+                const Float near = Float::load_aligned(node.bounds[near_row_[axis]] + first);
+                const Float far = Float::load_aligned(node.bounds[far_row_[axis]] + first);
+                const Float near_lo = near - origin_hi_[axis], near_hi = near - origin_lo_[axis];
+                const Float far_lo = far - origin_hi_[axis], far_hi = far - origin_lo_[axis];
+                const Float smallest_near = L::min(L::min(near_lo * inv_lo_[axis], near_lo * inv_hi_[axis]),
+                                                   L::min(near_hi * inv_lo_[axis], near_hi * inv_hi_[axis]));
+                Float largest_far = L::max(L::max(far_lo * inv_lo_[axis], far_lo * inv_hi_[axis]),
+                                           L::max(far_hi * inv_lo_[axis], far_hi * inv_hi_[axis]));
+                if constexpr (Slabs == SlabTest::robust) largest_far = largest_far * Float(detail::kFarScale);
+                entry = L::max(smallest_near, entry);
+                exit = L::min(largest_far, exit);
+            }
+            entry.store_unaligned(entry_lo.data() + first);
+            may |= simd::mask_bits(entry <= exit) << first;
         }
-        entry.store_unaligned(entry_lo.data());
-        return simd::mask_bits(entry <= exit);
+        return may;
     }
 
 private:

@@ -1,18 +1,11 @@
-// The octree's packet traversals, compiled once for every architecture built in
-// (accel/packet_kernels.h says why).
+// The octree's packet traversals, compiled once for each packet width
+// (accel/packet_kernels.h says why; simd/kernel_arch.h how).
 #include "accel/octree/octree_packet.h"
 #include "accel/packet_kernel_instances.h"
+#include "simd/kernel_arch.h"
 
 namespace trident {
 
-#if XSIMD_WITH_SSE4_2
-template struct PacketKernels<Octree, xsimd::sse4_2>;
-#endif
-#if XSIMD_WITH_AVX2
-template struct PacketKernels<Octree, xsimd::avx2>;
-#endif
-#if XSIMD_WITH_AVX512BW
-template struct PacketKernels<Octree, xsimd::avx512bw>;
-#endif
+template struct PacketKernels<Octree, KernelArch>;
 
 }  // namespace trident

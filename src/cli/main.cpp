@@ -23,6 +23,7 @@
 #include "scene/scene_error.h"
 #include "scene/scene_source.h"
 #include "scenes/builtin.h"
+#include "simd/cpu_info.h"
 
 namespace trident {
 namespace {
@@ -73,7 +74,7 @@ SlabTest slab_test_or_throw(const std::string& name) {
 SimdWidth simd_width_or_throw(const std::string& name) {
     const auto width = parse_simd_width(name);
     if (!width) throw std::invalid_argument(fmt::format("--simd {}: expected {}", name, kSimdWidthChoices));
-    if (!is_runnable(*width)) throw std::invalid_argument(fmt::format("--simd {}: this CPU or build cannot run it", name));
+    if (!is_runnable(*width)) throw std::invalid_argument(fmt::format("--simd {}: {}", name, unavailable_reason(*width)));
     return *width;
 }
 
@@ -213,6 +214,27 @@ int run_info(const CommonOptions& common, bool accel_given) {
     return 0;
 }
 
+/// The CPU, the kernels built in, what TRIDENT_ISA allows, and the width --simd auto picks.
+int run_cpu() {
+    const auto cap = isa_cap();  // a bad TRIDENT_ISA is an error before anything is printed
+    fmt::print("cpu:       {}\n", cpu_model());
+    std::string features;
+    for (const std::string& feature : cpu_features()) features += (features.empty() ? "" : " ") + feature;
+    fmt::print("features:  {}\n", features.empty() ? "none of sse4.2 and above" : features);
+    fmt::print("baseline:  -march={}\n", baseline_march());
+    fmt::print("cap:       {}\n", cap ? fmt::format("TRIDENT_ISA={}", to_string(*cap)) : std::string("none (TRIDENT_ISA unset)"));
+    for (const SimdWidth width : {SimdWidth::w4, SimdWidth::w8, SimdWidth::w16}) {
+        const char* march = kernel_march(width);
+        const char* state = !is_compiled_in(width) ? "not built"
+                            : !cpu_supports(width)  ? "built, this CPU lacks it"
+                            : !cap_allows(width)    ? "built, capped by TRIDENT_ISA"
+                                                    : "runs here";
+        fmt::print("{:>2} lanes:  {}{}\n", to_string(width), state, march ? fmt::format(" (-march={})", march) : "");
+    }
+    fmt::print("--simd auto: {}\n", to_string(widest_supported()));
+    return 0;
+}
+
 int run_scenes(const std::optional<std::filesystem::path>& manifest) {
     fmt::print("built-in scenes:\n");
     for (const BuiltinSceneInfo& info : builtin_scenes())
@@ -257,6 +279,8 @@ int main(int argc, char** argv) {
     CLI::App* scenes_cmd = app.add_subcommand("scenes", "list the built-in scenes (and a manifest's)");
     scenes_cmd->add_option("--scenes", scenes_manifest, "also list the scenes of this manifest");
     const StressCommand stress_cmd(app);
+    CLI::App* cpu_cmd = app.add_subcommand(
+        "cpu", "the CPU's model and instruction sets, the packet kernels built in and the ones a run chooses");
 
     try {
         app.parse(argc, argv);
@@ -277,6 +301,7 @@ int main(int argc, char** argv) {
         if (render_cmd->parsed()) return run_render(common, render);
         if (info_cmd->parsed()) return run_info(info_common, info_cmd->count("--accel") > 0);
         if (stress_cmd.parsed()) return stress_cmd.run();
+        if (cpu_cmd->parsed()) return run_cpu();
         return run_scenes(scenes_manifest);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "trident: %s\n", e.what());

@@ -1,34 +1,16 @@
 #include "render/heat_map.h"
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <array>
 #include <stdexcept>
 #include <string>
 
-#include "render/primary_packets.h"
+#include "render/render_kernels.h"
 #include "render/secondary_rays.h"
 #include "render/trace.h"
-#include "simd/packet.h"
 
 namespace trident {
 namespace {
-
-/// Primary rays of one tile as packets, each packet's counters given to all of its pixels.
-template <TriangleTest Test, class Arch, class Structure>
-void count_tile_packets(const Structure& structure, const Camera& camera, const ImageTile& tile,
-                        std::vector<TraversalCounters>& counts) {
-    for_each_primary_block<Arch>(camera, tile, [&](const PrimaryBlock<Arch>& block) {
-        const RayPacket<Arch> packet = block.rays();
-        HitPacket<Arch> hits(packet);
-        TraversalCounters counters;
-        intersect_packet(structure, packet, hits, counters, {.test = Test});
-        block.for_each_pixel(tile, [&](std::uint32_t x, std::uint32_t y) {
-            counts[std::size_t(y) * camera.width() + x] = counters;
-        });
-    });
-}
 
 // A perceptually ordered ramp (dark blue -> teal -> yellow -> white-hot), sampled linearly.
 constexpr std::array<Vec3f, 5> kRamp{Vec3f{0.02f, 0.02f, 0.10f}, Vec3f{0.10f, 0.25f, 0.60f}, Vec3f{0.10f, 0.65f, 0.55f},
@@ -87,24 +69,13 @@ std::vector<TraversalCounters> count_primary_rays(const AnyAccel& accel, const C
                                                   TriangleTest test) {
     if (width == SimdWidth::scalar) return count_primary(accel, camera, test);
     std::vector<TraversalCounters> counts(std::size_t(camera.width()) * camera.height());
-    with_triangle_test(test, [&](auto test_tag) {
-        constexpr TriangleTest Test = decltype(test_tag)::value;
-        accel.visit([&](const auto& structure) {
-            using Structure = std::decay_t<decltype(structure)>;
-            dispatch_width(width, [&]<SimdWidth W>() {
-                auto refuse = [&] {
-                    throw std::runtime_error(fmt::format("--simd {} with --accel {}: packet traversal not built yet",
-                                                         to_string(W), to_string(accel.kind())));
-                };
-                if constexpr (W == SimdWidth::scalar)
-                    refuse();
-                else if constexpr (PacketTraversable<Structure, ArchOf<W>>)
-                    for_each_image_tile(camera, [&](const ImageTile& tile) {
-                        count_tile_packets<Test, ArchOf<W>>(structure, camera, tile, counts);
-                    });
-                else
-                    refuse();
-            });
+    accel.visit([&](const auto& structure) {
+        using Structure = std::decay_t<decltype(structure)>;
+        dispatch_width(width, [&]<SimdWidth W>() {
+            if constexpr (W != SimdWidth::scalar)
+                for_each_image_tile(camera, [&](const ImageTile& tile) {
+                    RenderKernels<Structure, W>::count_primary_tile(structure, camera, tile, counts, test);
+                });
         });
     });
     return counts;

@@ -1,14 +1,12 @@
 #include "render/ray_stream.h"
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <array>
 #include <stdexcept>
 #include <type_traits>
 
-#include "render/trace.h"
-#include "simd/packet.h"
+#include "core/traversal_variant.h"
+#include "render/render_kernels.h"
 
 namespace trident {
 namespace {
@@ -49,47 +47,44 @@ void trace_single(const Structure& structure, const Rays& rays, std::span<Result
 }
 
 /// One packet of the rays at `index` (at most the width's lanes), its results written to `out`.
-template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Structure, class Rays>
+template <bool AnyHit, TriangleTest Test, SlabTest Slabs, SimdWidth Width, class Structure, class Rays>
 void trace_packet(const Structure& structure, const Rays& rays, std::span<const std::size_t> index,
                   std::span<Result<AnyHit>> out) {
-    constexpr std::size_t kLanes = RayPacket<Arch>::width;
-    std::array<Ray, kLanes> lane_rays;
+    using Kernels = RenderKernels<Structure, Width>;
+    std::array<Ray, Kernels::kLanes> lane_rays;
     for (std::size_t k = 0; k < index.size(); ++k) lane_rays[k] = rays.ray(index[k]);
-    const RayPacket<Arch> packet(std::span<const Ray>(lane_rays.data(), index.size()));
-    NoCounters counters;
+    const std::span<const Ray> packet(lane_rays.data(), index.size());
     if constexpr (AnyHit) {
-        const std::uint32_t bits =
-            simd::mask_bits(occlude_packet(structure, packet, counters, {.test = Test, .slabs = Slabs}));
+        const std::uint32_t bits = Kernels::occlude_rays(structure, packet, {.test = Test, .slabs = Slabs});
         for (std::size_t k = 0; k < index.size(); ++k) out[rays.out_index(index[k])] = (bits >> k) & 1u;
     } else {
-        HitPacket<Arch> hits(packet);
-        intersect_packet(structure, packet, hits, counters, {.test = Test, .slabs = Slabs});
-        std::array<Hit, kLanes> lane_hits;
-        hits.store(std::span<Hit>(lane_hits.data(), index.size()));
+        std::array<Hit, Kernels::kLanes> lane_hits;
+        Kernels::intersect_rays(structure, packet, std::span<Hit>(lane_hits.data(), index.size()),
+                                {.test = Test, .slabs = Slabs});
         for (std::size_t k = 0; k < index.size(); ++k) out[rays.out_index(index[k])] = lane_hits[k];
     }
 }
 
-template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Structure>
+template <bool AnyHit, TriangleTest Test, SlabTest Slabs, SimdWidth Width, class Structure>
 void trace_packets(const Structure& structure, const RayList& rays, std::span<Result<AnyHit>> out,
                    PacketGrouping grouping) {
     for (std::size_t i = 0; i < rays.size(); ++i)
         if (!is_traced(rays.ray(i))) out[i] = Result<AnyHit>{};
-    for_each_stream_packet(rays.rays, RayPacket<Arch>::width, grouping, [&](std::span<const std::size_t> index) {
-        trace_packet<AnyHit, Test, Slabs, Arch>(structure, rays, index, out);
+    for_each_stream_packet(rays.rays, lane_count(Width), grouping, [&](std::span<const std::size_t> index) {
+        trace_packet<AnyHit, Test, Slabs, Width>(structure, rays, index, out);
     });
 }
 
-template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Structure>
+template <bool AnyHit, TriangleTest Test, SlabTest Slabs, SimdWidth Width, class Structure>
 void trace_packets(const Structure& structure, const GatheredRays& rays, std::span<Result<AnyHit>> out,
                    PacketGrouping) {
-    constexpr std::size_t kLanes = RayPacket<Arch>::width;
+    constexpr std::size_t kLanes = lane_count(Width);
     std::array<std::size_t, kLanes> index;
     for (std::size_t first = 0; first < rays.size(); first += kLanes) {
         const std::size_t lanes = std::min(kLanes, rays.size() - first);
         for (std::size_t k = 0; k < lanes; ++k) index[k] = first + k;
-        trace_packet<AnyHit, Test, Slabs, Arch>(structure, rays, std::span<const std::size_t>(index.data(), lanes),
-                                                out);
+        trace_packet<AnyHit, Test, Slabs, Width>(structure, rays, std::span<const std::size_t>(index.data(), lanes),
+                                                 out);
     }
 }
 
@@ -100,15 +95,11 @@ void trace_stream(const AnyAccel& accel, const Rays& rays, std::span<Result<AnyH
         constexpr TriangleTest Test = decltype(test_tag)::value;
         constexpr SlabTest Slabs = decltype(slabs_tag)::value;
         accel.visit([&](const auto& structure) {
-            using Structure = std::decay_t<decltype(structure)>;
             dispatch_width(traversal.width, [&]<SimdWidth W>() {
                 if constexpr (W == SimdWidth::scalar)
                     trace_single<AnyHit, Test, Slabs>(structure, rays, out);
-                else if constexpr (PacketTraversable<Structure, ArchOf<W>>)
-                    trace_packets<AnyHit, Test, Slabs, ArchOf<W>>(structure, rays, out, traversal.grouping);
                 else
-                    throw std::runtime_error(fmt::format("--simd {} with --accel {}: packet traversal not built yet",
-                                                         to_string(W), to_string(accel.kind())));
+                    trace_packets<AnyHit, Test, Slabs, W>(structure, rays, out, traversal.grouping);
             });
         });
     });

@@ -18,8 +18,10 @@ struct Run {
     std::string output;  // stdout and stderr
 };
 
-Run run_trident(const std::string& args) {
-    const std::string command = std::string(TRIDENT_BINARY_DIR) + "/trident " + args + " 2>&1";
+/// `environment`: assignments put before the command, e.g. "TRIDENT_ISA=avx2".
+Run run_trident(const std::string& args, const std::string& environment = "") {
+    const std::string command =
+        (environment.empty() ? "" : environment + " ") + std::string(TRIDENT_BINARY_DIR) + "/trident " + args + " 2>&1";
     FILE* pipe = popen(command.c_str(), "r");
     REQUIRE(pipe != nullptr);
     std::string output;
@@ -85,6 +87,27 @@ TEST_CASE("info --kd-depth-offset moves the KD-tree's depth limit") {
     };
     CHECK(depth("") == 24);
     CHECK(depth(" --kd-depth-offset -10") == 14);
+}
+
+TEST_CASE("cpu names the CPU and the kernels; TRIDENT_ISA caps them, and a bad cap is one line and an error") {
+    const Run run = run_trident("cpu");
+    CHECK(run.exit_code == 0);
+    CHECK(run.output.find("cpu:") != std::string::npos);
+    CHECK(run.output.find("--simd auto:") != std::string::npos);
+    const Run capped = run_trident("cpu", "TRIDENT_ISA=sse4");
+    CHECK(capped.exit_code == 0);
+    CHECK(capped.output.find("--simd auto: 4") != std::string::npos);
+    for (const std::string& args : {std::string("cpu"), std::string("render teapot --simd auto --output /dev/null")}) {
+        CAPTURE(args);
+        const Run bad = run_trident(args, "TRIDENT_ISA=avx9");
+        CHECK(bad.exit_code != 0);
+        CHECK(lines(bad.output) == 1);
+        CHECK(bad.output.find("TRIDENT_ISA=avx9") != std::string::npos);
+    }
+    const Run too_wide = run_trident("render teapot --simd 8 --width 16 --height 16 --output /dev/null", "TRIDENT_ISA=sse4");
+    CHECK(too_wide.exit_code != 0);
+    CHECK(lines(too_wide.output) == 1);
+    CHECK(too_wide.output.rfind("trident: --simd 8: ", 0) == 0);
 }
 
 TEST_CASE("scenes lists the built-in scenes") {

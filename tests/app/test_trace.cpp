@@ -67,3 +67,67 @@ TEST_CASE("packet occlusion equals scalar occlusion and skips rays with nothing 
     for (std::size_t i = 0; i < rays.size(); ++i)
         if (!(rays[i].tmax > rays[i].tmin)) CHECK(scalar[i] == 0);
 }
+
+TEST_CASE("under every ISA cap this CPU has, every width it allows gives the scalar hits bit for bit") {
+    const Scene scene = make_builtin_scene("teapot");
+    const Camera camera(scene.camera, 37, 23);
+    // Secondary rays from the teapot's surface in scattered directions, for the stream kernels.
+    std::vector<Ray> rays;
+    for (std::uint32_t y = 0; y < camera.height(); ++y)
+        for (std::uint32_t x = 0; x < camera.width(); ++x) {
+            const Ray primary = camera.primary_ray(x, y);
+            const float a = float((x * 7 + y * 13) % 17) - 8.0f, b = float((x * 5 + y * 3) % 11) - 5.0f;
+            rays.push_back(Ray{primary.origin + primary.dir * (0.8f * float(x + y + 1) / float(camera.width() + camera.height())),
+                               {a, b, 1.0f}, 0.0f, kInfinity});
+        }
+    auto same_all_bits = [](const std::vector<Hit>& a, const std::vector<Hit>& b) {
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < a.size(); ++i)
+            differ += !(same_bits(a[i], b[i]) && std::memcmp(&a[i].u, &b[i].u, sizeof(float)) == 0 &&
+                        std::memcmp(&a[i].v, &b[i].v, sizeof(float)) == 0);
+        return differ;
+    };
+    const auto saved = isa_cap();
+    for (const IsaLevel cap : {IsaLevel::sse4, IsaLevel::avx2, IsaLevel::avx512}) {
+        set_isa_cap(cap);
+        CAPTURE(to_string(cap));
+        for (AccelKind kind : kinds_with_packets()) {
+            CAPTURE(to_string(kind));
+            const AnyAccel accel = AnyAccel::build(kind, scene.mesh);
+            const std::vector<Hit> scalar = trace_primary(accel, camera);
+            std::vector<Hit> scalar_stream(rays.size());
+            intersect_stream(accel, rays, scalar_stream, {SimdWidth::scalar});
+            std::vector<std::uint8_t> scalar_occluded(rays.size());
+            occlude_stream(accel, rays, scalar_occluded, {SimdWidth::scalar});
+            for (SimdWidth width : {SimdWidth::w4, SimdWidth::w8, SimdWidth::w16}) {
+                CAPTURE(to_string(width));
+                if (!is_compiled_in(width) || !cpu_supports(width)) continue;
+                if (!cap_allows(width)) {
+                    CHECK_THROWS_WITH_AS(trace_primary(accel, camera, TriangleTest::watertight, width),
+                                         doctest::Contains("TRIDENT_ISA"), std::runtime_error);
+                    continue;
+                }
+                CHECK(same_all_bits(scalar, trace_primary(accel, camera, TriangleTest::watertight, width)) == 0);
+                std::vector<Hit> stream(rays.size());
+                intersect_stream(accel, rays, stream, {width});
+                CHECK(same_all_bits(scalar_stream, stream) == 0);
+                std::vector<std::uint8_t> occluded(rays.size());
+                occlude_stream(accel, rays, occluded, {width});
+                CHECK(occluded == scalar_occluded);
+            }
+        }
+        CHECK(lane_count(widest_supported()) <= lane_count(cap == IsaLevel::sse4   ? SimdWidth::w4
+                                                           : cap == IsaLevel::avx2 ? SimdWidth::w8
+                                                                                   : SimdWidth::w16));
+    }
+    set_isa_cap(saved);
+}
+
+TEST_CASE("ISA levels print as they parse, and nothing else parses") {
+    for (const IsaLevel level : {IsaLevel::sse4, IsaLevel::avx2, IsaLevel::avx512})
+        CHECK(parse_isa_level(to_string(level)) == level);
+    for (const char* bad : {"", "sse2", "AVX2", "avx512bw", "avx-512", "native"}) {
+        CAPTURE(bad);
+        CHECK_FALSE(parse_isa_level(bad).has_value());
+    }
+}

@@ -17,7 +17,7 @@ void for_each_packet_arch(Body&& body) {
         const std::string width_name = to_string(width);
         CAPTURE(width_name);
         dispatch_width(width, [&]<SimdWidth W>() {
-            if constexpr (W != SimdWidth::scalar) body.template operator()<ArchOf<W>>();
+            if constexpr (W != SimdWidth::scalar && kArchInThisFile<W>) body.template operator()<ArchOf<W>>();
         });
     }
 }

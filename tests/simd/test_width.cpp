@@ -56,8 +56,10 @@ TEST_CASE("dispatch_width runs the body at the requested width and refuses width
         auto lanes_of_body = [&]<SimdWidth W>() -> std::size_t {
             if constexpr (W == SimdWidth::scalar)
                 return 1;
-            else
+            else if constexpr (kArchInThisFile<W>)
                 return xsimd::batch<float, ArchOf<W>>::size;
+            else
+                return lane_count(W);  // a kernel width this test file was not compiled for
         };
         if (is_runnable(width)) {
             CHECK(dispatch_width(width, lanes_of_body) == lane_count(width));

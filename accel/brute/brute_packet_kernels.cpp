@@ -1,0 +1,11 @@
+// The brute force's packet traversals, compiled once for each packet width
+// (accel/packet_kernels.h says why; simd/kernel_arch.h how).
+#include "accel/brute/brute_force.h"
+#include "accel/packet_kernel_instances.h"
+#include "simd/kernel_arch.h"
+
+namespace trident {
+
+template struct PacketKernels<BruteForce, KernelArch>;
+
+}  // namespace trident

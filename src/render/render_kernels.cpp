@@ -1,0 +1,70 @@
+// The renderer's packet loops (render/render_kernels.h), compiled once for each packet width
+// (simd/kernel_arch.h) for every structure AnyAccel holds.
+#include "render/render_kernels.h"
+
+#include <array>
+
+#include "accel/any_accel.h"
+#include "render/primary_packets.h"
+#include "simd/kernel_arch.h"
+#include "simd/packet.h"
+
+namespace trident {
+
+template <class Structure, SimdWidth Width>
+void RenderKernels<Structure, Width>::trace_primary_tile(const Structure& structure, const Camera& camera,
+                                                         const ImageTile& tile, std::span<Hit> hits,
+                                                         PacketVariant variant) {
+    using Arch = ArchOf<Width>;
+    for_each_primary_block<Arch>(camera, tile, [&](const PrimaryBlock<Arch>& block) {
+        const RayPacket<Arch> packet = block.rays();
+        HitPacket<Arch> packet_hits(packet);
+        NoCounters counters;
+        intersect_packet(structure, packet, packet_hits, counters, variant);
+        block.store(packet_hits, tile, camera.width(), hits);
+    });
+}
+
+template <class Structure, SimdWidth Width>
+void RenderKernels<Structure, Width>::count_primary_tile(const Structure& structure, const Camera& camera,
+                                                         const ImageTile& tile, std::span<TraversalCounters> counts,
+                                                         TriangleTest test) {
+    using Arch = ArchOf<Width>;
+    for_each_primary_block<Arch>(camera, tile, [&](const PrimaryBlock<Arch>& block) {
+        const RayPacket<Arch> packet = block.rays();
+        HitPacket<Arch> hits(packet);
+        TraversalCounters counters;
+        intersect_packet(structure, packet, hits, counters, {.test = test});
+        block.for_each_pixel(tile, [&](std::uint32_t x, std::uint32_t y) {
+            counts[std::size_t(y) * camera.width() + x] = counters;
+        });
+    });
+}
+
+template <class Structure, SimdWidth Width>
+void RenderKernels<Structure, Width>::intersect_rays(const Structure& structure, std::span<const Ray> rays,
+                                                     std::span<Hit> hits, PacketVariant variant) {
+    using Arch = ArchOf<Width>;
+    const RayPacket<Arch> packet(rays);
+    HitPacket<Arch> packet_hits(packet);
+    NoCounters counters;
+    intersect_packet(structure, packet, packet_hits, counters, variant);
+    packet_hits.store(hits.first(rays.size()));
+}
+
+template <class Structure, SimdWidth Width>
+std::uint32_t RenderKernels<Structure, Width>::occlude_rays(const Structure& structure, std::span<const Ray> rays,
+                                                            PacketVariant variant) {
+    const RayPacket<ArchOf<Width>> packet(rays);
+    NoCounters counters;
+    return simd::mask_bits(occlude_packet(structure, packet, counters, variant));
+}
+
+template struct RenderKernels<BruteForce, kKernelWidth>;
+template struct RenderKernels<Bvh, kKernelWidth>;
+template struct RenderKernels<WideBvh<4, 4>, kKernelWidth>;
+template struct RenderKernels<WideBvh<8, 4>, kKernelWidth>;
+template struct RenderKernels<KdTree, kKernelWidth>;
+template struct RenderKernels<Octree, kKernelWidth>;
+
+}  // namespace trident

@@ -1,0 +1,36 @@
+#pragma once
+// The renderer's packet loops, one width at a time: primary rays of an image tile made and traced
+// as packets, a tile's traversal counts, and up to a packet's worth of listed rays. Declared here
+// with no batch in sight and defined in render_kernels.cpp, which CMake compiles once per packet
+// width with that width's instruction set (simd/kernel_arch.h), so the files that pick a width at
+// run time (trace.cpp, heat_map.cpp, ray_stream.cpp) compile for the build's baseline.
+#include <cstdint>
+#include <span>
+
+#include "accel/accel_stats.h"
+#include "accel/packet_kernels.h"
+#include "camera/camera.h"
+#include "core/ray.h"
+#include "render/image_tiles.h"
+#include "simd/width.h"
+
+namespace trident {
+
+template <class Structure, SimdWidth Width>
+struct RenderKernels {
+    static constexpr std::size_t kLanes = lane_count(Width);
+
+    /// The closest hits of the tile's primary rays into `hits` (the image's, row-major).
+    static void trace_primary_tile(const Structure& structure, const Camera& camera, const ImageTile& tile,
+                                   std::span<Hit> hits, PacketVariant variant);
+    /// Each of the tile's pixels gets its packet's counters (the robust slab test).
+    static void count_primary_tile(const Structure& structure, const Camera& camera, const ImageTile& tile,
+                                   std::span<TraversalCounters> counts, TriangleTest test);
+    /// One packet of `rays` (1 to kLanes, all traceable): the closest hits, or the occluded lanes
+    /// as bits (lane k is bit k).
+    static void intersect_rays(const Structure& structure, std::span<const Ray> rays, std::span<Hit> hits,
+                               PacketVariant variant);
+    static std::uint32_t occlude_rays(const Structure& structure, std::span<const Ray> rays, PacketVariant variant);
+};
+
+}  // namespace trident
