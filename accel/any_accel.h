@@ -26,15 +26,6 @@ namespace trident {
 /// binary BVH whatever the width, the reference study's structure, kept beside the wide one.
 enum class AccelKind { brute, bvh, bvh2, kdtree, octree };
 
-/// Whether a structure traces packets of the architecture's width (closest-hit and any-hit), so
-/// callers that dispatch on a run-time width instantiate packet code only where it exists.
-template <class Structure, class Arch>
-concept PacketTraversable = requires(const Structure& s, const RayPacket<Arch>& rays, HitPacket<Arch>& hits,
-                                     NoCounters& counters) {
-    s.template intersect<TriangleTest::watertight>(rays, hits, counters);
-    s.template occluded<TriangleTest::watertight>(rays, counters);
-};
-
 /// Each structure's build options; a run uses the one its kind names.
 struct AccelOptions {
     BvhOptions bvh;

@@ -3,8 +3,8 @@
 // templates. Included only by the translation unit that instantiates a structure's kernels, after
 // the header that defines its packet traversal (which only it and the tests of the traversal's
 // parts include):
-//     template struct PacketKernels<Bvh, xsimd::avx2>;
-// once per architecture compiled in (XSIMD_WITH_...), so each kernel is compiled once.
+//     template struct PacketKernels<Bvh, KernelArch>;
+// in a file CMake compiles once per packet width (simd/kernel_arch.h), so each kernel is compiled once.
 #include <stdexcept>
 #include <type_traits>
 

@@ -1,7 +1,7 @@
 #pragma once
 // The structures' packet traversals as the renderer, the benchmark, the Python module and the tests
 // call them: PacketKernels<Structure, Arch>, whose members are defined and instantiated once, in
-// the structure's own translation unit (accel/packet_kernel_instances.h), for every compiled-in
+// the structure's own translation unit (accel/packet_kernel_instances.h), once per packet width
 // architecture. Every caller instantiating the traversal kernels again made them the bulk of the
 // build: about 300 of the Release build's 742 CPU seconds and 640 of the sanitizer build's 1,377
 // (bench/experiments/test_time.md). The same seam is where per-ISA kernels are chosen (issue 34).

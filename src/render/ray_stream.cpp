@@ -47,60 +47,63 @@ void trace_single(const Structure& structure, const Rays& rays, std::span<Result
 }
 
 /// One packet of the rays at `index` (at most the width's lanes), its results written to `out`.
-template <bool AnyHit, TriangleTest Test, SlabTest Slabs, SimdWidth Width, class Structure, class Rays>
+template <bool AnyHit, SimdWidth Width, class Structure, class Rays>
 void trace_packet(const Structure& structure, const Rays& rays, std::span<const std::size_t> index,
-                  std::span<Result<AnyHit>> out) {
+                  std::span<Result<AnyHit>> out, PacketVariant variant) {
     using Kernels = RenderKernels<Structure, Width>;
     std::array<Ray, Kernels::kLanes> lane_rays;
     for (std::size_t k = 0; k < index.size(); ++k) lane_rays[k] = rays.ray(index[k]);
     const std::span<const Ray> packet(lane_rays.data(), index.size());
     if constexpr (AnyHit) {
-        const std::uint32_t bits = Kernels::occlude_rays(structure, packet, {.test = Test, .slabs = Slabs});
+        const std::uint32_t bits = Kernels::occlude_rays(structure, packet, variant);
         for (std::size_t k = 0; k < index.size(); ++k) out[rays.out_index(index[k])] = (bits >> k) & 1u;
     } else {
         std::array<Hit, Kernels::kLanes> lane_hits;
-        Kernels::intersect_rays(structure, packet, std::span<Hit>(lane_hits.data(), index.size()),
-                                {.test = Test, .slabs = Slabs});
+        Kernels::intersect_rays(structure, packet, std::span<Hit>(lane_hits.data(), index.size()), variant);
         for (std::size_t k = 0; k < index.size(); ++k) out[rays.out_index(index[k])] = lane_hits[k];
     }
 }
 
-template <bool AnyHit, TriangleTest Test, SlabTest Slabs, SimdWidth Width, class Structure>
+template <bool AnyHit, SimdWidth Width, class Structure>
 void trace_packets(const Structure& structure, const RayList& rays, std::span<Result<AnyHit>> out,
-                   PacketGrouping grouping) {
+                   PacketGrouping grouping, PacketVariant variant) {
     for (std::size_t i = 0; i < rays.size(); ++i)
         if (!is_traced(rays.ray(i))) out[i] = Result<AnyHit>{};
     for_each_stream_packet(rays.rays, lane_count(Width), grouping, [&](std::span<const std::size_t> index) {
-        trace_packet<AnyHit, Test, Slabs, Width>(structure, rays, index, out);
+        trace_packet<AnyHit, Width>(structure, rays, index, out, variant);
     });
 }
 
-template <bool AnyHit, TriangleTest Test, SlabTest Slabs, SimdWidth Width, class Structure>
+template <bool AnyHit, SimdWidth Width, class Structure>
 void trace_packets(const Structure& structure, const GatheredRays& rays, std::span<Result<AnyHit>> out,
-                   PacketGrouping) {
+                   PacketGrouping, PacketVariant variant) {
     constexpr std::size_t kLanes = lane_count(Width);
     std::array<std::size_t, kLanes> index;
     for (std::size_t first = 0; first < rays.size(); first += kLanes) {
         const std::size_t lanes = std::min(kLanes, rays.size() - first);
         for (std::size_t k = 0; k < lanes; ++k) index[k] = first + k;
-        trace_packet<AnyHit, Test, Slabs, Width>(structure, rays, std::span<const std::size_t>(index.data(), lanes),
-                                                 out);
+        trace_packet<AnyHit, Width>(structure, rays, std::span<const std::size_t>(index.data(), lanes), out,
+                                    variant);
     }
 }
 
 template <bool AnyHit, class Rays>
 void trace_stream(const AnyAccel& accel, const Rays& rays, std::span<Result<AnyHit>> out, StreamTraversal traversal,
                   TriangleTest test) {
-    with_traversal_variant(test, traversal.slabs, [&](auto test_tag, auto slabs_tag) {
-        constexpr TriangleTest Test = decltype(test_tag)::value;
-        constexpr SlabTest Slabs = decltype(slabs_tag)::value;
-        accel.visit([&](const auto& structure) {
-            dispatch_width(traversal.width, [&]<SimdWidth W>() {
-                if constexpr (W == SimdWidth::scalar)
-                    trace_single<AnyHit, Test, Slabs>(structure, rays, out);
-                else
-                    trace_packets<AnyHit, Test, Slabs, W>(structure, rays, out, traversal.grouping);
+    // Single rays take the variant as template arguments; the packet kernels take it at run time.
+    if (traversal.width == SimdWidth::scalar) {
+        with_traversal_variant(test, traversal.slabs, [&](auto test_tag, auto slabs_tag) {
+            accel.visit([&](const auto& structure) {
+                trace_single<AnyHit, decltype(test_tag)::value, decltype(slabs_tag)::value>(structure, rays, out);
             });
+        });
+        return;
+    }
+    const PacketVariant variant{.test = test, .slabs = traversal.slabs};
+    accel.visit([&](const auto& structure) {
+        dispatch_width(traversal.width, [&]<SimdWidth W>() {
+            if constexpr (W != SimdWidth::scalar)
+                trace_packets<AnyHit, W>(structure, rays, out, traversal.grouping, variant);
         });
     });
 }

@@ -10,19 +10,31 @@
 #include "simd/packet.h"
 
 namespace trident {
+namespace {
+
+/// done(block, hits, counters) after each packet block of the tile's primary rays is traced.
+template <class Arch, class Counters, class Structure, class Done>
+void trace_primary_blocks(const Structure& structure, const Camera& camera, const ImageTile& tile,
+                          PacketVariant variant, Done&& done) {
+    for_each_primary_block<Arch>(camera, tile, [&](const PrimaryBlock<Arch>& block) {
+        const RayPacket<Arch> packet = block.rays();
+        HitPacket<Arch> hits(packet);
+        Counters counters;
+        intersect_packet(structure, packet, hits, counters, variant);
+        done(block, hits, counters);
+    });
+}
+
+}  // namespace
 
 template <class Structure, SimdWidth Width>
 void RenderKernels<Structure, Width>::trace_primary_tile(const Structure& structure, const Camera& camera,
                                                          const ImageTile& tile, std::span<Hit> hits,
                                                          PacketVariant variant) {
     using Arch = ArchOf<Width>;
-    for_each_primary_block<Arch>(camera, tile, [&](const PrimaryBlock<Arch>& block) {
-        const RayPacket<Arch> packet = block.rays();
-        HitPacket<Arch> packet_hits(packet);
-        NoCounters counters;
-        intersect_packet(structure, packet, packet_hits, counters, variant);
-        block.store(packet_hits, tile, camera.width(), hits);
-    });
+    trace_primary_blocks<Arch, NoCounters>(structure, camera, tile, variant,
+                                           [&](const PrimaryBlock<Arch>& block, const HitPacket<Arch>& packet_hits,
+                                               const NoCounters&) { block.store(packet_hits, tile, camera.width(), hits); });
 }
 
 template <class Structure, SimdWidth Width>
@@ -30,15 +42,13 @@ void RenderKernels<Structure, Width>::count_primary_tile(const Structure& struct
                                                          const ImageTile& tile, std::span<TraversalCounters> counts,
                                                          TriangleTest test) {
     using Arch = ArchOf<Width>;
-    for_each_primary_block<Arch>(camera, tile, [&](const PrimaryBlock<Arch>& block) {
-        const RayPacket<Arch> packet = block.rays();
-        HitPacket<Arch> hits(packet);
-        TraversalCounters counters;
-        intersect_packet(structure, packet, hits, counters, {.test = test});
-        block.for_each_pixel(tile, [&](std::uint32_t x, std::uint32_t y) {
-            counts[std::size_t(y) * camera.width() + x] = counters;
+    trace_primary_blocks<Arch, TraversalCounters>(
+        structure, camera, tile, {.test = test},
+        [&](const PrimaryBlock<Arch>& block, const HitPacket<Arch>&, const TraversalCounters& counters) {
+            block.for_each_pixel(tile, [&](std::uint32_t x, std::uint32_t y) {
+                counts[std::size_t(y) * camera.width() + x] = counters;
+            });
         });
-    });
 }
 
 template <class Structure, SimdWidth Width>

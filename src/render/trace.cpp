@@ -30,24 +30,27 @@ void trace_primary(const AnyAccel& accel, const Camera& camera, std::span<Hit> h
                    SlabTest slabs) {
     if (hits.size() != std::size_t(camera.width()) * camera.height())
         throw std::invalid_argument("trace_primary: the hit buffer does not match the image size");
-    with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
-        constexpr TriangleTest Test = decltype(test_tag)::value;
-        constexpr SlabTest Slabs = decltype(slabs_tag)::value;
-        accel.visit([&](const auto& structure) {
-            using Structure = std::decay_t<decltype(structure)>;
-            dispatch_width(width, [&]<SimdWidth W>() {
-                if constexpr (W == SimdWidth::scalar) {
-                    for_each_pixel_tiled(camera, [&](std::uint32_t x, std::uint32_t y, std::size_t i) {
-                        NoCounters counters;
-                        hits[i] = structure.template intersect<Test, Slabs>(camera.primary_ray(x, y), counters);
-                    });
-                } else {
-                    for_each_image_tile(camera, [&](const ImageTile& tile) {
-                        RenderKernels<Structure, W>::trace_primary_tile(structure, camera, tile, hits,
-                                                                        {.test = Test, .slabs = Slabs});
-                    });
-                }
+    // Single rays take the variant as template arguments; the packet kernels take it at run time.
+    if (width == SimdWidth::scalar) {
+        with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
+            accel.visit([&](const auto& structure) {
+                for_each_pixel_tiled(camera, [&](std::uint32_t x, std::uint32_t y, std::size_t i) {
+                    NoCounters counters;
+                    hits[i] = structure.template intersect<decltype(test_tag)::value, decltype(slabs_tag)::value>(
+                        camera.primary_ray(x, y), counters);
+                });
             });
+        });
+        return;
+    }
+    accel.visit([&](const auto& structure) {
+        using Structure = std::decay_t<decltype(structure)>;
+        dispatch_width(width, [&]<SimdWidth W>() {
+            if constexpr (W != SimdWidth::scalar)
+                for_each_image_tile(camera, [&](const ImageTile& tile) {
+                    RenderKernels<Structure, W>::trace_primary_tile(structure, camera, tile, hits,
+                                                                    {.test = test, .slabs = slabs});
+                });
         });
     });
 }
