@@ -1,10 +1,14 @@
 #pragma once
 // Placement of a part in a scene: a linear map (three column axes) and a translation.
 #include <cmath>
+#include <numbers>
 
 #include "core/vec3.h"
 
 namespace trident {
+
+/// The scenes' angles are in radians.
+inline constexpr float kPi = std::numbers::pi_v<float>;
 
 struct Affine {
     Vec3f x_axis{1.0f, 0.0f, 0.0f};

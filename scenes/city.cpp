@@ -19,7 +19,6 @@ constexpr float kStreetPitch = 80.0f;
 constexpr float kStreetWidth = 20.0f;  // kerb to kerb 14 m, plus 3 m of sidewalk each side
 constexpr float kSidewalk = 3.0f;
 constexpr float kFloorHeight = 3.5f;
-constexpr float kPi = std::numbers::pi_v<float>;
 
 float avenue_x(int i) { return kAvenuePitch * float(i - kBlockColumns / 2); }
 float street_z(int j) { return -kStreetPitch * float(j); }

@@ -17,7 +17,6 @@ constexpr float kBay = 2.0f * kHalfLength / kBays;  // 5 m: column spacing along
 constexpr int kTables = 6;                          // tables in each of the two rows
 constexpr float kSpringing = 7.85f;                 // top of the column abacus, where the arches start
 constexpr float kAbacusHalf = 0.78f;
-constexpr float kPi = std::numbers::pi_v<float>;
 
 /// z of the columns (k = 1 .. kBays - 1) and of the bay centres (k + 0.5).
 float bay_z(float k) { return -kHalfLength + kBay * k; }

@@ -21,6 +21,7 @@
 #include "support/camera_rays.h"
 #include "support/packet_agreement.h"
 #include "support/random_scenes.h"
+#include "support/sanitizer_workload.h"
 
 using namespace trident;
 using namespace trident::testing;
@@ -206,17 +207,10 @@ TEST_CASE("an empty kd-tree leaves every lane a miss and occludes nothing") {
     });
 }
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr std::size_t kLargestScene = 400'000;  // the sanitizers slow building the ~1M scene too much
-#else
-constexpr std::size_t kLargestScene = std::numeric_limits<std::size_t>::max();
-#endif
-
 TEST_CASE(
     "camera pixel blocks of every built-in scene (2x2, 4x2, 4x4) and random camera rays find the single-ray hits") {
-    for (const BuiltinSceneInfo& info : builtin_scenes()) {
+    for (const BuiltinSceneInfo& info : builtin_scenes_under_test()) {
         CAPTURE(info.name);
-        if (info.triangles > kLargestScene) continue;
         const auto& [scene, tree] = builtin_kd(info.name);
         for_each_packet_arch([&]<class Arch>() {
             constexpr int width = int(RayPacket<Arch>::width);

@@ -16,6 +16,7 @@
 #include "support/camera_rays.h"
 #include "support/random_scenes.h"
 #include "support/reference_check.h"
+#include "support/sanitizer_workload.h"
 
 using namespace trident;
 using namespace trident::testing;
@@ -196,16 +197,9 @@ TEST_CASE("the tree tests far fewer triangles than the brute force, and counts w
     CHECK(any.triangles_tested <= counters.triangles_tested);
 }
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr std::size_t kLargestScene = 400'000;  // the sanitizers slow building the ~1M scene too much
-#else
-constexpr std::size_t kLargestScene = std::numeric_limits<std::size_t>::max();
-#endif
-
 TEST_CASE("closest and any hits are right on every built-in scene") {
-    for (const BuiltinSceneInfo& info : builtin_scenes()) {
+    for (const BuiltinSceneInfo& info : builtin_scenes_under_test()) {
         CAPTURE(info.name);
-        if (info.triangles > kLargestScene) continue;
         const auto& [scene, tree] = builtin_kd(info.name);
         // The double brute force costs rays x triangles: about a hundred rays on the biggest scene.
         const std::size_t ray_count = std::clamp<std::size_t>(30'000'000 / (info.triangles + 1), 64, 2000);

@@ -14,6 +14,7 @@
 #include "support/camera_rays.h"
 #include "support/random_scenes.h"
 #include "support/reference_check.h"
+#include "support/sanitizer_workload.h"
 
 #if __has_include("scenes/builtin.h")
 #include "scenes/builtin.h"
@@ -215,7 +216,7 @@ TEST_CASE("the traversal does no work outside the ray's window and stops at the 
 
 #ifdef TRIDENT_TEST_BUILTIN_SCENES
 TEST_CASE("closest and any hits agree with the brute force on the built-in scenes") {
-    for (const std::string& name : builtin_scene_names()) {
+    for (const std::string& name : builtin_scene_names_under_test()) {
         CAPTURE(name);
         const Scene scene = make_builtin_scene(name);
         const Octree tree = Octree::build(scene.mesh, {});

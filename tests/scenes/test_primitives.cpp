@@ -15,8 +15,6 @@ using namespace trident::testing;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 Mesh build_one(Shape shape, const Affine& placement = {}) {
     MeshBuilder b;
     b.add(std::move(shape), placement);
@@ -85,17 +83,17 @@ TEST_CASE("lathes with caps, poles, flutes and loops are closed solids of the ex
     SUBCASE("cylinder") {
         const Mesh mesh = build_one(cylinder(0.5f, 1.0f, 3.0f, 64));
         check_solid(mesh);
-        CHECK(signed_volume(mesh) == doctest::Approx(kPi * 0.25 * 2.0).epsilon(0.01));
+        CHECK(signed_volume(mesh) == doctest::Approx(std::numbers::pi * 0.25 * 2.0).epsilon(0.01));
     }
     SUBCASE("sphere from a profile with a pole at each end") {
         Lathe sphere{{}, 48};
         for (int i = 0; i <= 24; ++i) {
-            const double a = -kPi / 2 + kPi * i / 24;
+            const double a = -std::numbers::pi / 2 + std::numbers::pi * i / 24;
             sphere.profile.push_back({i == 0 || i == 24 ? 0.0f : float(std::cos(a)), float(std::sin(a))});
         }
         const Mesh mesh = build_one(sphere);
         check_solid(mesh);
-        CHECK(signed_volume(mesh) == doctest::Approx(4.0 / 3.0 * kPi).epsilon(0.02));
+        CHECK(signed_volume(mesh) == doctest::Approx(4.0 / 3.0 * std::numbers::pi).epsilon(0.02));
     }
     SUBCASE("fluted column shaft") {
         check_solid(build_one(Lathe{{{0.5f, 0.0f}, {0.45f, 2.0f}, {0.4f, 4.0f}}, 96, false, 24, 0.05f}));
@@ -103,17 +101,17 @@ TEST_CASE("lathes with caps, poles, flutes and loops are closed solids of the ex
     SUBCASE("torus") {
         const Mesh mesh = build_one(torus(2.0f, 0.5f, 1.0f, 96, 32));
         check_solid(mesh);
-        CHECK(signed_volume(mesh) == doctest::Approx(2.0 * kPi * kPi * 2.0 * 0.25).epsilon(0.01));
+        CHECK(signed_volume(mesh) == doctest::Approx(2.0 * std::numbers::pi * std::numbers::pi * 2.0 * 0.25).epsilon(0.01));
     }
 }
 
 TEST_CASE("round and square-shouldered arches are closed solids") {
     const Mesh round = build_one(Arch{1.0f, 1.5f, 0.4f, 32, false});
     check_solid(round);
-    CHECK(signed_volume(round) == doctest::Approx(0.5 * kPi * (1.5 * 1.5 - 1.0) * 0.4).epsilon(0.01));
+    CHECK(signed_volume(round) == doctest::Approx(0.5 * std::numbers::pi * (1.5 * 1.5 - 1.0) * 0.4).epsilon(0.01));
     const Mesh square = build_one(Arch{1.0f, 1.5f, 0.4f, 32, true});
     check_solid(square);
-    CHECK(signed_volume(square) == doctest::Approx((3.0 * 1.5 - 0.5 * kPi) * 0.4).epsilon(0.01));
+    CHECK(signed_volume(square) == doctest::Approx((3.0 * 1.5 - 0.5 * std::numbers::pi) * 0.4).epsilon(0.01));
 }
 
 TEST_CASE("geodesic spheres are closed at every frequency and approach the unit sphere") {
@@ -124,7 +122,7 @@ TEST_CASE("geodesic spheres are closed at every frequency and approach the unit 
         check_solid(mesh);
         for (std::uint32_t i = 0; i < mesh.vertex_count(); ++i) CHECK(length(mesh.vertex(i)) == doctest::Approx(1.0f));
     }
-    CHECK(signed_volume(build_one(GeodesicSphere{20})) == doctest::Approx(4.0 / 3.0 * kPi).epsilon(0.01));
+    CHECK(signed_volume(build_one(GeodesicSphere{20})) == doctest::Approx(4.0 / 3.0 * std::numbers::pi).epsilon(0.01));
 }
 
 TEST_CASE("placements move parts and keep their winding; mirroring placements are refused") {

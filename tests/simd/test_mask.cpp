@@ -14,8 +14,10 @@
 #include "each_arch.h"
 #include "simd/lanes.h"
 #include "simd/mask.h"
+#include "support/float_bits.h"
 
 using namespace trident;
+using trident::testing::bits_of;
 using trident::testing::for_each_packet_arch;
 
 namespace {
@@ -26,8 +28,6 @@ xsimd::batch_bool<float, Arch> mask_of(std::uint32_t pattern) {
     for (std::size_t i = 0; i < lanes.size(); ++i) lanes[i] = (pattern >> i) & 1u;
     return xsimd::batch_bool<float, Arch>::load_unaligned(lanes.data());
 }
-
-std::uint32_t bits_of(float x) { return std::bit_cast<std::uint32_t>(x); }
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 

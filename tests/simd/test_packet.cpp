@@ -14,14 +14,14 @@
 #include "core/intersect_triangle.h"
 #include "each_arch.h"
 #include "simd/packet.h"
+#include "support/float_bits.h"
 #include "support/random_scenes.h"
 
 using namespace trident;
+using trident::testing::bits_of;
 using trident::testing::for_each_packet_arch;
 
 namespace {
-
-std::uint32_t bits_of(float x) { return std::bit_cast<std::uint32_t>(x); }
 
 /// Rays with distinct values in every field; directions in the octant given by `negative`
 /// (bit a: component a negative; a zero component is -0 when negative).

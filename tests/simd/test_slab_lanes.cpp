@@ -14,24 +14,26 @@
 #include "core/slab_test.h"
 #include "each_arch.h"
 #include "simd/packet.h"
+#include "support/float_bits.h"
 #include "support/random_scenes.h"
 
 using namespace trident;
+using trident::testing::bits_of;
 using trident::testing::for_each_packet_arch;
 
 namespace {
 
 /// Random boxes (some flat on an axis), rays from random_rays (every fifth axis-parallel with +0
 /// and -0) and rays whose origin lies exactly on a box face, parallel to it or not.
-struct Case {
+struct BoxCase {
     std::vector<Aabb> boxes;
     std::vector<Ray> rays;
 };
 
-Case make_case(std::uint32_t seed) {
+BoxCase make_case(std::uint32_t seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> centre(-1.0f, 1.0f), half(0.0f, 0.5f), unit(0.0f, 1.0f);
-    Case c;
+    BoxCase c;
     for (int i = 0; i < 64; ++i) {
         const Vec3f mid{centre(rng), centre(rng), centre(rng)};
         Vec3f extent{half(rng), half(rng), half(rng)};
@@ -65,9 +67,7 @@ Case make_case(std::uint32_t seed) {
     return c;
 }
 
-std::uint32_t bits_of(float x) { return std::bit_cast<std::uint32_t>(x); }
-
-struct Mismatches {
+struct EntryMismatches {
     std::size_t lanes = 0, hits = 0, wrong = 0;
     std::string first;
     void compare(bool scalar_hit, float scalar_entry, bool packet_hit, float packet_entry, const std::string& where) {
@@ -81,7 +81,7 @@ struct Mismatches {
 
 /// Rays in packets (the last one partial), each box broadcast to all lanes.
 template <class Arch>
-void compare_ray_packets(const Case& c, Mismatches& m) {
+void compare_ray_packets(const BoxCase& c, EntryMismatches& m) {
     using Float = xsimd::batch<float, Arch>;
     using L = Lanes<Float>;
     constexpr std::size_t width = Float::size;
@@ -109,7 +109,7 @@ void compare_ray_packets(const Case& c, Mismatches& m) {
 
 /// One ray broadcast to all lanes against a different box per lane (the wide-node layout).
 template <class Arch>
-void compare_box_packets(const Case& c, Mismatches& m) {
+void compare_box_packets(const BoxCase& c, EntryMismatches& m) {
     using Float = xsimd::batch<float, Arch>;
     using L = Lanes<Float>;
     constexpr std::size_t width = Float::size;
@@ -147,9 +147,9 @@ void compare_box_packets(const Case& c, Mismatches& m) {
 }  // namespace
 
 TEST_CASE("packet slab test equals the scalar slab test bit for bit, rays or boxes in the lanes") {
-    const Case c = make_case(5);
+    const BoxCase c = make_case(5);
     for_each_packet_arch([&]<class Arch>() {
-        Mismatches rays, boxes;
+        EntryMismatches rays, boxes;
         compare_ray_packets<Arch>(c, rays);
         compare_box_packets<Arch>(c, boxes);
         INFO("ray packets: ", rays.first, "; box packets: ", boxes.first);

@@ -8,15 +8,18 @@
 #include "core/reference.h"
 #include "stress/stress_cases.h"
 #include "stress/stress_runner.h"
+#include "support/sanitizer_workload.h"
 
 namespace trident {
 namespace {
 
-constexpr std::size_t kRaysPerCase = 1500;
+// Fewer rays under the sanitizers (support/sanitizer_workload.h): every case, structure, width and
+// query still runs.
+constexpr std::size_t kRaysPerCase = testing::workload(1500, 5);
 
 TEST_CASE("every stress case passes on every structure, width and query") {
     StressRunOptions options;
-    options.brute_rays = 300;
+    options.brute_rays = testing::workload(300, 3);
     for (const StressCaseInfo& info : stress_cases()) {
         const StressCase stress_case = make_stress_case(info.name, kRaysPerCase, 42);
         REQUIRE(stress_case.rays.size() == kRaysPerCase);
