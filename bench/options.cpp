@@ -10,6 +10,7 @@
 
 #include "bench/embree_baseline.h"
 #include "bench/statistics.h"
+#include "simd/width.h"
 
 namespace trident::bench {
 namespace {
@@ -153,8 +154,17 @@ EmbreeQuality resolve_embree_quality(const std::optional<std::string>& text) {
     refuse(fmt::format("--embree-quality {}: expected low, medium or high", *text));
 }
 
+/// Without --embree-isa, Embree's rows are capped as ours are: TRIDENT_ISA=avx2 gives both sides AVX2
+/// kernels, so the pair compares like with like (a cap above what the CPU runs caps nothing).
+EmbreeIsa embree_isa_of_cap() {
+    const std::optional<IsaLevel> cap = isa_cap();
+    if (!cap) return EmbreeIsa::native;
+    const EmbreeIsa isa = *cap == IsaLevel::sse4 ? EmbreeIsa::sse42 : *cap == IsaLevel::avx2 ? EmbreeIsa::avx2 : EmbreeIsa::avx512;
+    return cpu_runs(isa) ? isa : EmbreeIsa::native;
+}
+
 EmbreeIsa resolve_embree_isa(const std::optional<std::string>& text) {
-    if (!text) return EmbreeIsa::native;
+    if (!text) return kHaveEmbree ? embree_isa_of_cap() : EmbreeIsa::native;
     if (!kHaveEmbree) refuse("--embree-isa: this binary was built without Embree 3 (not found at configure time)");
     for (EmbreeIsa isa : kAllEmbreeIsas)
         if (*text == to_string(isa)) {
@@ -309,8 +319,9 @@ void add_options(CLI::App& app, Arguments& args) {
                    "how Embree's rows build their BVH: high (spatial splits, the default), medium (binned SAH) or "
                    "low (Morton codes); the Embree reference is always built with high");
     app.add_option("--embree-isa", args.embree_isa,
-                   "the most advanced ISA Embree's rows may use: native (default), sse4.2, avx2 or avx512 "
-                   "(rtcNewDevice's max_isa); the Embree reference always runs native");
+                   "the most advanced ISA Embree's rows may use: native, sse4.2, avx2 or avx512 (rtcNewDevice's "
+                   "max_isa; default: TRIDENT_ISA's cap when it is set, else native); the Embree reference "
+                   "always runs native");
     app.add_option("--sweep", args.sweep,
                    "sweep one build parameter: octree-depth, bvh-buckets, bvh-cost, kd-cost, kd-empty-bonus, "
                    "kd-perfect-splits, kd-depth");

@@ -20,6 +20,7 @@ namespace {
 
 using trident::testing::BenchRun;
 using trident::testing::run_bench;
+using trident::testing::run_command;
 using trident::testing::scratch_dir;
 namespace fs = std::filesystem;
 
@@ -282,6 +283,28 @@ TEST_CASE("--paired closest times each shadow row against the closest hit of the
                         [](const nlohmann::json&) { return false; });
         CHECK(none == 0);
     }
+}
+
+TEST_CASE("TRIDENT_ISA caps Embree's rows as it caps ours, unless --embree-isa names another") {
+    if (refused_without_embree("--embree 8", "--embree: this binary was built without Embree 3")) return;
+    const fs::path json_path = scratch_dir() / "isa_cap.json";
+    auto embree_isa = [&](const std::string& environment, const std::string& args) {
+        const BenchRun run = run_command(environment + " " + std::string(TRIDENT_BINARY_DIR) + "/trident-bench " + kTiny +
+                                         "--accel bvh --simd scalar --threads 1 --embree 8 --json " + json_path.string() +
+                                         " " + args);
+        INFO(run.err);
+        REQUIRE(run.exit_code == 0);
+        const auto json = nlohmann::json::parse(trident::testing::read_text(json_path));
+        for (const auto& row : rows_of(json, "embree"))
+            CHECK(row.at("note").get<std::string>().find(json.at("embree_settings").get<std::string>()) != std::string::npos);
+        return json.at("embree_isa").get<std::string>();
+    };
+    CHECK(embree_isa("env -u TRIDENT_ISA", "") == "native");
+    if (__builtin_cpu_supports("avx2")) {
+        CHECK(embree_isa("TRIDENT_ISA=avx2", "") == "avx2");
+        CHECK(embree_isa("TRIDENT_ISA=avx2", "--embree-isa native") == "native");
+    }
+    CHECK(embree_isa("TRIDENT_ISA=sse4", "") == "sse4.2");
 }
 
 TEST_CASE("--embree stream adds Embree's rtcIntersect1M row on primary rays, as exact as its packets") {
