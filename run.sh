@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # trident's one entry point for a fresh Debian 12 machine (run as root, or with sudo available):
-#   bash run.sh bench   install what is missing, build, run the benchmark on the built-in scenes
-#   bash run.sh test    install what is missing, build (Release, native; ASan+UBSan, portable), run every test
+#   bash run.sh bench   install what is missing, build (native), run the benchmark on the built-in scenes
+#   bash run.sh test    install what is missing, build (Release, portable; ASan+UBSan, native), run every test
 #                       (the Python module's pytest with Debian's /usr/bin/python3, in the Release build)
 # Extra arguments after the command are passed to the benchmark (bench) or to ctest (test).
 set -euo pipefail
@@ -14,7 +14,8 @@ jobs="$(nproc 2>/dev/null || echo 2)"
 packages=(build-essential cmake ninja-build pkg-config git
           libxsimd-dev libtbb-dev libtinyobjloader-dev libstb-dev doctest-dev
           libcli11-dev nlohmann-json3-dev libfmt-dev libembree-dev python3 python3-matplotlib
-          pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-dev)
+          pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-dev
+          qemu-user)  # qemu-x86_64 runs the portable build as older CPUs (tests/app/test_emulated_cpus.py)
 
 install_missing() {
     local missing=()
@@ -42,21 +43,24 @@ build() {  # build DIR [cmake args...]; only the targets in $targets when it is 
 case "$command_name" in
     bench)
         install_missing
-        # The benchmark needs only itself: neither the CLI, the test executables nor the sanitizer build.
-        targets="trident-bench" build build -DCMAKE_BUILD_TYPE=Release
+        # The benchmark measures this machine: a native build (-march=native) of the benchmark alone,
+        # neither the CLI, the test executables nor the sanitizer build.
+        targets="trident-bench" build build-native -DCMAKE_BUILD_TYPE=Release -DTRIDENT_MARCH=native
         # Without arguments: the built-in scenes, scalar against the widest SIMD packets, Embree beside.
-        [ "$#" -gt 0 ] || set -- --simd scalar,auto --json build/bench.json --markdown build/bench.md
-        build/trident-bench "$@"
+        [ "$#" -gt 0 ] || set -- --simd scalar,auto --json build-native/bench.json --markdown build-native/bench.md
+        build-native/trident-bench "$@"
         ;;
     test)
         install_missing
-        build build -DCMAKE_BUILD_TYPE=Release
+        # The Release build is the portable one users get (TRIDENT_MARCH=portable: an x86-64-v2
+        # baseline, kernels for SSE4.2, AVX2 and AVX-512 chosen at run time), so its tests cover the
+        # dispatch, every ISA cap, no AVX code outside the kernels (isa_leaks) and runs as an SSE4.2
+        # and an AVX2 CPU under qemu (emulated_cpus).
+        build build -DCMAKE_BUILD_TYPE=Release -DTRIDENT_MARCH=portable
         (cd build && ctest --output-on-failure -j "$jobs" "$@")
         # The sanitizer build runs the same tests with AddressSanitizer and UndefinedBehaviorSanitizer,
-        # on the portable build (TRIDENT_MARCH=portable: an x86-64-v2 baseline, kernels chosen at run
-        # time), so one run covers both: the dispatch, every ISA cap, and no AVX code outside the
-        # kernels (the isa_leaks test); the Release build above is the native one the benchmark times.
-        build build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTRIDENT_SANITIZE=ON -DTRIDENT_MARCH=portable
+        # compiled for this machine as the benchmark is.
+        build build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTRIDENT_SANITIZE=ON -DTRIDENT_MARCH=native
         (cd build-asan && ctest --output-on-failure -j "$jobs" "$@")
         ;;
     *)

@@ -20,7 +20,7 @@
 # The trials behind the figures (older runs, other machines, sweeps) are in bench/experiments/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bench=build/trident-bench
+bench=build-native/trident-bench
 scenes=../shared/scenes/scenes.json
 out=bench/results
 charts=bench/charts
@@ -61,9 +61,10 @@ step() {
     printf '%s\t%s\t%s\n' "$name" "$seconds" "$*" >> "$logs/steps.tsv"
 }
 
-# The binaries measured are built from this tree (Release, as run.sh builds them).
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release > /dev/null
-cmake --build build -j2 --target trident-bench trident > /dev/null
+# The binary measured is built from this tree for this machine, as `run.sh bench` builds it (Release,
+# -march=native: the figures are this CPU's; the portable build's cost is in experiments/portable_build.md).
+cmake -S . -B build-native -G Ninja -DCMAKE_BUILD_TYPE=Release -DTRIDENT_MARCH=native > /dev/null
+cmake --build build-native -j2 --target trident-bench > /dev/null
 commit=$(git rev-parse --short HEAD)
 dirty=$(git status --porcelain --untracked-files=no -- . ':!bench/results' ':!bench/charts' ':!bench/RESULTS.md' |
     head -c 1 | wc -c)

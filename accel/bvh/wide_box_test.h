@@ -42,14 +42,17 @@ T prune_limit(const T& t_closest) {
 /// same operations, so the answer is the same bits.
 template <std::size_t Width>
 inline constexpr std::size_t kNodeChunk = std::min(Width, xsimd::batch<float>::size);
-template <std::size_t Width>
-using NodeChunkFloat = xsimd::make_sized_batch_t<float, kNodeChunk<Width>>;
 
-template <std::size_t Width, SlabTest Slabs>
+/// Chunk is a template parameter, defaulted from the file's instruction set, so that the test's
+/// layout is in its name: WideBoxTest<8, S, 4> (two SSE halves, the portable baseline) and
+/// WideBoxTest<8, S, 8> (one AVX2 step, a kernel file) are two types. With one name for both, the
+/// linker kept one copy of each member for every file, and a baseline caller's 4-wide object was
+/// written by an 8-wide constructor (a stack overflow the portable sanitizer build found).
+template <std::size_t Width, SlabTest Slabs, std::size_t Chunk = kNodeChunk<Width>>
 class WideBoxTest {
 public:
-    using Float = NodeChunkFloat<Width>;
-    static constexpr std::size_t kChunk = kNodeChunk<Width>;
+    using Float = xsimd::make_sized_batch_t<float, Chunk>;
+    static constexpr std::size_t kChunk = Chunk;
     static_assert(Float::size == kChunk && Width % kChunk == 0, "no vector of this width on the target");
 
     explicit WideBoxTest(const Ray& ray) {

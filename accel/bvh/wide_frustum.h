@@ -56,11 +56,12 @@ struct RayGroupBounds {
     }
 };
 
-template <std::size_t Width, SlabTest Slabs>
+/// Chunk in the name, as for WideBoxTest (wide_box_test.h says why).
+template <std::size_t Width, SlabTest Slabs, std::size_t Chunk = kNodeChunk<Width>>
 class WideFrustumTest {
 public:
-    using Float = NodeChunkFloat<Width>;  // a whole node, or halves of it (wide_box_test.h)
-    static constexpr std::size_t kChunk = kNodeChunk<Width>;
+    using Float = xsimd::make_sized_batch_t<float, Chunk>;  // a whole node, or halves of it
+    static constexpr std::size_t kChunk = Chunk;
 
     explicit WideFrustumTest(const RayGroupBounds& group) : tmin_lo_(group.tmin_lo) {
         for (int axis = 0; axis < 3; ++axis) {

@@ -92,6 +92,26 @@ void trace_stream(const AnyAccel& accel, const Rays& rays, std::span<Result<AnyH
                   TriangleTest test) {
     // Single rays take the variant as template arguments; the packet kernels take it at run time.
     if (traversal.width == SimdWidth::scalar) {
+#if TRIDENT_SINGLE_RAY_KERNELS
+        // The portable build's single rays of a list run in the widest kernel file the CPU (and the
+        // cap) allow; gathered rays stay at the baseline.
+        if constexpr (std::is_same_v<Rays, RayList>) {
+            if (const SimdWidth file = widest_supported(); file != SimdWidth::scalar) {
+                accel.visit([&](const auto& structure) {
+                    dispatch_width(file, [&]<SimdWidth W>() {
+                        if constexpr (W != SimdWidth::scalar) {
+                            using FileKernels = SingleRayKernels<std::decay_t<decltype(structure)>, W>;
+                            if constexpr (AnyHit)
+                                FileKernels::occlude_rays(structure, rays.rays, out, test, traversal.slabs);
+                            else
+                                FileKernels::intersect_rays(structure, rays.rays, out, test, traversal.slabs);
+                        }
+                    });
+                });
+                return;
+            }
+        }
+#endif
         with_traversal_variant(test, traversal.slabs, [&](auto test_tag, auto slabs_tag) {
             accel.visit([&](const auto& structure) {
                 trace_single<AnyHit, decltype(test_tag)::value, decltype(slabs_tag)::value>(structure, rays, out);

@@ -1,11 +1,13 @@
-// The renderer's packet loops (render/render_kernels.h), compiled once for each packet width
-// (simd/kernel_arch.h) for every structure AnyAccel holds.
+// The renderer's packet loops and its single-ray loops (render/render_kernels.h), compiled once
+// for each packet width (simd/kernel_arch.h) for every structure AnyAccel holds.
 #include "render/render_kernels.h"
 
 #include <array>
 
 #include "accel/any_accel.h"
+#include "core/traversal_variant.h"
 #include "render/primary_packets.h"
+#include "render/stream_packets.h"
 #include "simd/kernel_arch.h"
 #include "simd/packet.h"
 
@@ -69,6 +71,62 @@ std::uint32_t RenderKernels<Structure, Width>::occlude_rays(const Structure& str
     NoCounters counters;
     return simd::mask_bits(occlude_packet(structure, packet, counters, variant));
 }
+
+#if TRIDENT_SINGLE_RAY_KERNELS  // the portable build only: elsewhere the baseline is the kernels' ISA
+template <class Structure, SimdWidth File>
+[[gnu::flatten]] void SingleRayKernels<Structure, File>::trace_primary_tile(const Structure& structure,
+                                                                            const Camera& camera, const ImageTile& tile,
+                                                                            std::span<Hit> hits, TriangleTest test,
+                                                                            SlabTest slabs) {
+    with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
+        for (std::uint32_t y = tile.y0; y != tile.y1; ++y)
+            for (std::uint32_t x = tile.x0; x != tile.x1; ++x) {
+                NoCounters counters;
+                hits[std::size_t(y) * camera.width() + x] =
+                    structure.template intersect<decltype(test_tag)::value, decltype(slabs_tag)::value>(
+                        camera.primary_ray(x, y), counters);
+            }
+    });
+}
+
+template <class Structure, SimdWidth File>
+[[gnu::flatten]] void SingleRayKernels<Structure, File>::intersect_rays(const Structure& structure,
+                                                                        std::span<const Ray> rays, std::span<Hit> hits,
+                                                                        TriangleTest test, SlabTest slabs) {
+    with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            NoCounters counters;
+            hits[i] = is_traced(rays[i])
+                          ? structure.template intersect<decltype(test_tag)::value, decltype(slabs_tag)::value>(
+                                rays[i], counters)
+                          : Hit{};
+        }
+    });
+}
+
+template <class Structure, SimdWidth File>
+[[gnu::flatten]] void SingleRayKernels<Structure, File>::occlude_rays(const Structure& structure,
+                                                                      std::span<const Ray> rays,
+                                                                      std::span<std::uint8_t> occluded,
+                                                                      TriangleTest test, SlabTest slabs) {
+    with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            NoCounters counters;
+            occluded[i] = is_traced(rays[i]) &&
+                          structure.template occluded<decltype(test_tag)::value, decltype(slabs_tag)::value>(
+                              rays[i], counters);
+        }
+    });
+}
+
+template struct SingleRayKernels<BruteForce, kKernelWidth>;
+template struct SingleRayKernels<Bvh, kKernelWidth>;
+template struct SingleRayKernels<WideBvh<4, 4>, kKernelWidth>;
+template struct SingleRayKernels<WideBvh<8, 4>, kKernelWidth>;
+template struct SingleRayKernels<KdTree, kKernelWidth>;
+template struct SingleRayKernels<Octree, kKernelWidth>;
+
+#endif
 
 template struct RenderKernels<BruteForce, kKernelWidth>;
 template struct RenderKernels<Bvh, kKernelWidth>;

@@ -11,6 +11,8 @@
 #include "accel/packet_kernels.h"
 #include "camera/camera.h"
 #include "core/ray.h"
+#include "core/slab_test.h"
+#include "core/intersect_triangle.h"
 #include "render/image_tiles.h"
 #include "simd/width.h"
 
@@ -31,6 +33,24 @@ struct RenderKernels {
     static void intersect_rays(const Structure& structure, std::span<const Ray> rays, std::span<Hit> hits,
                                PacketVariant variant);
     static std::uint32_t occlude_rays(const Structure& structure, std::span<const Ray> rays, PacketVariant variant);
+};
+
+/// Single rays compiled in the kernel file of `File`'s width, so with its instruction set: in the
+/// portable build the wide BVH's node tests, the triangle tests and everything else a ray's walk
+/// inlines get AVX2 or AVX-512 code on a CPU that has it, where the baseline's copy is SSE4.2
+/// (render/trace.cpp and render/ray_stream.cpp call them when TRIDENT_SINGLE_RAY_KERNELS is set).
+/// Each walk is inlined into these loops (gnu::flatten), so it is compiled here and not taken
+/// from the baseline's COMDAT copy; the hits are those of the baseline's walk, bit for bit.
+template <class Structure, SimdWidth File>
+struct SingleRayKernels {
+    /// The closest hits of the tile's primary rays into `hits` (the image's, row-major).
+    static void trace_primary_tile(const Structure& structure, const Camera& camera, const ImageTile& tile,
+                                   std::span<Hit> hits, TriangleTest test, SlabTest slabs);
+    /// One result per ray (untraceable rays get none: a miss, not occluded).
+    static void intersect_rays(const Structure& structure, std::span<const Ray> rays, std::span<Hit> hits,
+                               TriangleTest test, SlabTest slabs);
+    static void occlude_rays(const Structure& structure, std::span<const Ray> rays, std::span<std::uint8_t> occluded,
+                             TriangleTest test, SlabTest slabs);
 };
 
 }  // namespace trident

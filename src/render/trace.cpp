@@ -32,6 +32,21 @@ void trace_primary(const AnyAccel& accel, const Camera& camera, std::span<Hit> h
         throw std::invalid_argument("trace_primary: the hit buffer does not match the image size");
     // Single rays take the variant as template arguments; the packet kernels take it at run time.
     if (width == SimdWidth::scalar) {
+#if TRIDENT_SINGLE_RAY_KERNELS
+        // The portable build's single rays run in the widest kernel file the CPU (and the cap) allow.
+        if (const SimdWidth file = widest_supported(); file != SimdWidth::scalar) {
+            accel.visit([&](const auto& structure) {
+                using Structure = std::decay_t<decltype(structure)>;
+                dispatch_width(file, [&]<SimdWidth W>() {
+                    if constexpr (W != SimdWidth::scalar)
+                        for_each_image_tile(camera, [&](const ImageTile& tile) {
+                            SingleRayKernels<Structure, W>::trace_primary_tile(structure, camera, tile, hits, test, slabs);
+                        });
+                });
+            });
+            return;
+        }
+#endif
         with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
             accel.visit([&](const auto& structure) {
                 for_each_pixel_tiled(camera, [&](std::uint32_t x, std::uint32_t y, std::size_t i) {
