@@ -94,12 +94,12 @@ void trace_stream(const AnyAccel& accel, const Rays& rays, std::span<Result<AnyH
     if (traversal.width == SimdWidth::scalar) {
 #if TRIDENT_SINGLE_RAY_KERNELS
         // The portable build's single rays of a list run in the widest kernel file the CPU (and the
-        // cap) allow; gathered rays stay at the baseline.
+        // cap) allow, when it is an AVX2 or AVX-512 one; gathered rays stay at the baseline.
         if constexpr (std::is_same_v<Rays, RayList>) {
-            if (const SimdWidth file = widest_supported(); file != SimdWidth::scalar) {
+            if (const SimdWidth file = widest_supported(); lane_count(file) > 4) {
                 accel.visit([&](const auto& structure) {
                     dispatch_width(file, [&]<SimdWidth W>() {
-                        if constexpr (W != SimdWidth::scalar) {
+                        if constexpr (lane_count(W) > 4) {
                             using FileKernels = SingleRayKernels<std::decay_t<decltype(structure)>, W>;
                             if constexpr (AnyHit)
                                 FileKernels::occlude_rays(structure, rays.rays, out, test, traversal.slabs);

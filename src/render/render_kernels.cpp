@@ -72,7 +72,9 @@ std::uint32_t RenderKernels<Structure, Width>::occlude_rays(const Structure& str
     return simd::mask_bits(occlude_packet(structure, packet, counters, variant));
 }
 
-#if TRIDENT_SINGLE_RAY_KERNELS  // the portable build only: elsewhere the baseline is the kernels' ISA
+// The portable build's 8- and 16-lane files only: the 4-lane file's x86-64-v2 is the baseline's own,
+// and a native build's baseline is its kernels' instruction set.
+#if TRIDENT_SINGLE_RAY_KERNELS && TRIDENT_KERNEL_LANES > 4
 template <class Structure, SimdWidth File>
 [[gnu::flatten]] void SingleRayKernels<Structure, File>::trace_primary_tile(const Structure& structure,
                                                                             const Camera& camera, const ImageTile& tile,

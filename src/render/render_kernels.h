@@ -38,7 +38,8 @@ struct RenderKernels {
 /// Single rays compiled in the kernel file of `File`'s width, so with its instruction set: in the
 /// portable build the wide BVH's node tests, the triangle tests and everything else a ray's walk
 /// inlines get AVX2 or AVX-512 code on a CPU that has it, where the baseline's copy is SSE4.2
-/// (render/trace.cpp and render/ray_stream.cpp call them when TRIDENT_SINGLE_RAY_KERNELS is set).
+/// (render/trace.cpp and render/ray_stream.cpp call them when TRIDENT_SINGLE_RAY_KERNELS is set;
+/// only the 8- and 16-lane files hold them, the 4-lane one being the baseline's x86-64-v2).
 /// Each walk is inlined into these loops (gnu::flatten), so it is compiled here and not taken
 /// from the baseline's COMDAT copy; the hits are those of the baseline's walk, bit for bit.
 template <class Structure, SimdWidth File>

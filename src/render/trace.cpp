@@ -33,12 +33,13 @@ void trace_primary(const AnyAccel& accel, const Camera& camera, std::span<Hit> h
     // Single rays take the variant as template arguments; the packet kernels take it at run time.
     if (width == SimdWidth::scalar) {
 #if TRIDENT_SINGLE_RAY_KERNELS
-        // The portable build's single rays run in the widest kernel file the CPU (and the cap) allow.
-        if (const SimdWidth file = widest_supported(); file != SimdWidth::scalar) {
+        // The portable build's single rays run in the widest kernel file the CPU (and the cap) allow,
+        // when it is an AVX2 or AVX-512 one.
+        if (const SimdWidth file = widest_supported(); lane_count(file) > 4) {
             accel.visit([&](const auto& structure) {
                 using Structure = std::decay_t<decltype(structure)>;
                 dispatch_width(file, [&]<SimdWidth W>() {
-                    if constexpr (W != SimdWidth::scalar)
+                    if constexpr (lane_count(W) > 4)
                         for_each_image_tile(camera, [&](const ImageTile& tile) {
                             SingleRayKernels<Structure, W>::trace_primary_tile(structure, camera, tile, hits, test, slabs);
                         });
