@@ -10,9 +10,9 @@
 #include "accel/accel_stats.h"
 #include "accel/packet_kernels.h"
 #include "camera/camera.h"
+#include "core/intersect_triangle.h"
 #include "core/ray.h"
 #include "core/slab_test.h"
-#include "core/intersect_triangle.h"
 #include "render/image_tiles.h"
 #include "simd/width.h"
 
