@@ -3,12 +3,12 @@
 
     /usr/bin/python3 tests/bench/test_compare_builds.py BUILD_DIR
 
-Two rounds over two scenes and two structures: one table row per scene, structure, traversal and
+Two rounds over the teapot and two structures (with the asteroid too, the test took 80 s
+under the sanitizers): one table row per scene, structure, traversal and
 ray kind the runs share, each ratio a positive number, the Markdown file the same table; a binary
 that does not exist is one line on stderr and exit 1.
 """
 import os
-import re
 import subprocess
 import sys
 import tempfile
@@ -21,15 +21,15 @@ def main():
     failures = []
     with tempfile.TemporaryDirectory() as scratch:
         markdown = os.path.join(scratch, "compare.md")
-        done = subprocess.run([sys.executable, SCRIPT, bench, bench, "--rounds", "2", "--each-scene", "teapot,asteroid",
+        done = subprocess.run([sys.executable, SCRIPT, bench, bench, "--rounds", "2", "--each-scene", "teapot",
                                "--each-accel", "bvh,octree", "--markdown", markdown, "--", "--simd", "scalar,simd4",
                                "--rays", "primary,shadow", "--threads", "1", "--embree", "none", "--width", "32",
                                "--height", "18", "--repeats", "1"], capture_output=True, text=True)
         if done.returncode != 0:
             failures.append("exit {}: {}".format(done.returncode, done.stderr.strip()))
-        rows = [line for line in done.stdout.splitlines() if re.match(r"\| (teapot|asteroid) \|", line)]
-        if len(rows) != 2 * 2 * 2 * 2:  # scenes x structures x traversals x ray kinds
-            failures.append("expected 16 rows, got {}:\n{}".format(len(rows), done.stdout))
+        rows = [line for line in done.stdout.splitlines() if line.startswith("| teapot |")]
+        if len(rows) != 2 * 2 * 2:  # structures x traversals x ray kinds
+            failures.append("expected 8 rows, got {}:\n{}".format(len(rows), done.stdout))
         for row in rows:
             ratios = [float(x) for x in row.strip("|").split("|")[5:8]]
             if not all(r > 0 for r in ratios) or not ratios[1] <= ratios[0] <= ratios[2]:
