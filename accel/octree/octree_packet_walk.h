@@ -62,15 +62,14 @@ Vec3T<xsimd::batch<float, Arch>> packet_slab_midpoints(const RayPacket<Arch>& ra
                                                        const OctreeCube& cell) {
     using Float = xsimd::batch<float, Arch>;
     const Vec3f mid = cell.mid();
-    Vec3T<Float> tm;
-    for (int axis = 0; axis < 3; ++axis) {
+    const auto midpoint = [&](int axis) {
         const Float crossing = Float(0.5f) * (slabs.t0[axis] + slabs.t1[axis]);
         // Below the centre plane the single-ray walk takes +inf (the lower child, never left).
         const float below = (mirror >> axis) & 1u ? -kInfinity : kInfinity;
         const Float beside = xsimd::select(rays.origin[axis] < Float(mid[axis]), Float(below), Float(-below));
-        tm[axis] = xsimd::select(root.parallel[axis], beside, crossing);
-    }
-    return tm;
+        return xsimd::select(root.parallel[axis], beside, crossing);
+    };
+    return {midpoint(0), midpoint(1), midpoint(2)};  // not zeroed first (child_slabs() says why)
 }
 
 /// The stored children of a node with child mask `mask`, in mirrored numbering: bit c set when

@@ -88,15 +88,13 @@ inline unsigned first_child(const NodeSlabs& slabs, const Vec3f& tm) {
 }
 
 /// Child `child`'s (mirrored numbering) slabs: the lower or upper half of each parent interval.
+/// Built in one expression, not by assigning a default (zeroed) value axis by axis: over batches
+/// the zeroing was a `rep stos` per child visited in the portable build (generic tuning).
 template <class T>
 NodeSlabsT<T> child_slabs(unsigned child, const NodeSlabsT<T>& parent, const Vec3T<T>& tm) {
-    NodeSlabsT<T> out;
-    for (int axis = 0; axis < 3; ++axis) {
-        const bool upper = (child >> axis) & 1u;
-        out.t0[axis] = upper ? tm[axis] : parent.t0[axis];
-        out.t1[axis] = upper ? parent.t1[axis] : tm[axis];
-    }
-    return out;
+    const auto enter = [&](int axis) { return (child >> axis) & 1u ? tm[axis] : parent.t0[axis]; };
+    const auto leave = [&](int axis) { return (child >> axis) & 1u ? parent.t1[axis] : tm[axis]; };
+    return {{enter(0), enter(1), enter(2)}, {leave(0), leave(1), leave(2)}};
 }
 
 /// The child entered after leaving `child` (mirrored numbering), or 8 when the ray leaves the
