@@ -40,11 +40,12 @@ def rows_by_key(report):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0],
-                                     usage="%(prog)s A B [--rounds N] [--markdown FILE] -- BENCH_ARGS...")
+                                     usage="%(prog)s A B [--rounds N] [--markdown FILE] [--json FILE] -- BENCH_ARGS...")
     parser.add_argument("a", help="binary A (its speed is the numerator)")
     parser.add_argument("b", help="binary B")
     parser.add_argument("--rounds", type=int, default=3, help="rounds of both binaries (default 3)")
     parser.add_argument("--markdown", help="write the table here too")
+    parser.add_argument("--json", help="write the rows' ratios here as JSON (bench/results_page.py reads it)")
     parser.add_argument("--each-scene", default="", help="scenes, comma separated: one pair of runs each (--only)")
     parser.add_argument("--each-accel", default="", help="structures, comma separated: one pair of runs each (--accel)")
     # trident-bench's arguments follow "--"; split by hand, as argparse's REMAINDER after
@@ -87,12 +88,13 @@ def main():
              "", "CPU: {}".format((machine or {}).get("cpu", "unknown")), "",
              "| scene | structure | traversal | rays | threads | A over B (median) | min | max |",
              "|---|---|---|---|---|---|---|---|"]
-    medians = []
+    medians, rows = [], []
     for key in sorted(ratios, key=lambda k: tuple(str(x) for x in k)):
         values = ratios[key]
         medians.append(statistics.median(values))
         lines.append("| {} | {} | {} | {} | {} | {:.3f} | {:.3f} | {:.3f} |".format(
             key[0], key[1], key[2], key[3], key[4], medians[-1], min(values), max(values)))
+        rows.append(dict(zip(KEY, key), median=medians[-1], min=min(values), max=max(values), ratios=values))
     lines += ["", "{} rows; the rows' medians range {:.3f} to {:.3f}, their median {:.3f}.".format(
         len(medians), min(medians), max(medians), statistics.median(medians))]
     text = "\n".join(lines) + "\n"
@@ -100,6 +102,12 @@ def main():
     if args.markdown:
         with open(args.markdown, "w") as f:
             f.write(text)
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump({"a": args.a, "b": args.b, "rounds": args.rounds, "each_scene": args.each_scene,
+                       "each_accel": args.each_accel, "arguments": bench_args, "machine": machine, "rows": rows},
+                      f, indent=2)
+            f.write("\n")
     return 0
 
 

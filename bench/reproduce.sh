@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The run set behind bench/RESULTS.md: every table and chart of it, measured on this machine at
-# this commit, then the page generated from the JSON (bench/summarize.py page). About 30 minutes on
+# this commit, then the page generated from the JSON (bench/summarize.py page). About 50 minutes on
 # 2 cores (an estimate from the rows and the resolution; each step prints how long it took, and the
 # page lists the times). Run from anywhere, with ../shared beside the repository and nothing else
 # running on the machine:
@@ -17,6 +17,11 @@
 #   ray_kinds  primary, shadow and diffuse rays of the same scenes at 960x540 (a quarter of the rays:
 #              the diffuse rows are the run's slowest), the same traversals, threads and Embree calls:
 #              the study's question per ray kind, shadow and diffuse rays against Embree.
+#   portable   the portable build (build-portable/, what `run.sh test` and users get) against this
+#              native one on the same rays, in pairs seconds apart (bench/compare_builds.py): the
+#              built-in scenes, every structure, width and ray kind, one thread.
+#   setup      `bash run.sh test` and `bash run.sh bench`, each from a clean clone of this commit
+#              (bench/time_setup.sh): what a newcomer waits, on this machine.
 # The trials behind the figures (older runs, other machines, sweeps) are in bench/experiments/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -27,12 +32,14 @@ charts=bench/charts
 python=/usr/bin/python3  # Debian's, which has matplotlib
 
 only=() repeats=() primary_size=(--width 1920 --height 1080) secondary_size=(--width 960 --height 540)
+portable_scenes=teapot,asteroid,hall portable_rounds=3 portable_size=(--width 640 --height 360) setup=yes
 placeholder=""
 case "${1:-}" in
     "") ;;
     --quick)
         only=(--only teapot,sponza) repeats=(--repeats 1)
         primary_size=(--width 160 --height 90) secondary_size=(--width 160 --height 90)
+        portable_scenes=teapot portable_rounds=1 portable_size=(--width 160 --height 90) setup=""
         placeholder="Made by \`bash bench/reproduce.sh --quick\` (Teapot and Sponza at 160x90, one timed run each)."
         ;;
     --only)
@@ -65,6 +72,8 @@ step() {
 # -march=native: the figures are this CPU's; the portable build's cost is in experiments/portable_build.md).
 cmake -S . -B build-native -G Ninja -DCMAKE_BUILD_TYPE=Release -DTRIDENT_MARCH=native > /dev/null
 cmake --build build-native -j2 --target trident-bench > /dev/null
+cmake -S . -B build-portable -G Ninja -DCMAKE_BUILD_TYPE=Release -DTRIDENT_MARCH=portable > /dev/null
+cmake --build build-portable -j2 --target trident-bench > /dev/null
 commit=$(git rev-parse --short HEAD)
 dirty=$(git status --porcelain --untracked-files=no -- . ':!bench/results' ':!bench/charts' ':!bench/RESULTS.md' |
     head -c 1 | wc -c)
@@ -73,12 +82,21 @@ date=$(date -u +%Y-%m-%dT%H:%M:%SZ)
 # The run set replaces the last one whole: no file of an older run stays beside it.
 rm -rf "$out" "$charts"
 mkdir -p "$out" "$charts"
+# First the clean-clone times: the step that builds and tests everything, so a failure costs the
+# least of the run.
+if [[ -n $setup ]]; then
+    step setup bash bench/time_setup.sh $out/setup.json
+fi
 step primary $bench --scenes $scenes "${only[@]}" --rays primary --simd scalar,simd8,simd16 --threads 1,2 \
     --embree 1,8,16 --paired scalar,bvh,embree "${primary_size[@]}" "${repeats[@]}" --quiet \
     --json $out/primary.json --markdown $out/primary.md --csv $out/primary.csv
 step ray_kinds $bench --scenes $scenes "${only[@]}" --rays primary,shadow,diffuse --simd scalar,simd8,simd16 \
     --threads 1,2 --embree 1,8,16 --paired bvh,embree "${secondary_size[@]}" "${repeats[@]}" --quiet \
     --json $out/ray_kinds.json --markdown $out/ray_kinds.md --csv $out/ray_kinds.csv
+step portable $python bench/compare_builds.py build-portable/trident-bench $bench --rounds $portable_rounds \
+    --each-scene $portable_scenes --each-accel bvh,bvh2,kdtree,octree --json $out/portable.json \
+    --markdown $out/portable.md -- --simd scalar,simd4,simd8,simd16 --rays primary,shadow,diffuse --threads 1 \
+    --embree none "${portable_size[@]}"
 # Charts: the study's Figures 17 and 18 and the rest for primary rays, and the fastest traversal
 # per structure for each ray kind.
 step charts_primary $python bench/plot.py $out/primary.json --out $charts
@@ -107,6 +125,9 @@ for chart in chart_paths:
 run = {"commit": commit, "dirty": dirty != "0", "date": date, "steps": steps,
        "runs": [{"name": "primary", "json": "primary.json"}, {"name": "ray_kinds", "json": "ray_kinds.json"}],
        "charts": charts}
+for name in ("portable", "setup"):
+    if os.path.exists(os.path.join(os.path.dirname(manifest), name + ".json")):
+        run[name] = name + ".json"
 if placeholder:
     run["placeholder"] = placeholder
 with open(manifest, "w") as f:

@@ -152,6 +152,23 @@ class RunSet:
         if "primary" not in self.runs:
             raise PageError("{}: no run named 'primary'".format(manifest_path))
         self.machine = next(iter(self.runs.values())).report["machine"]
+        # The portable build against the native one (bench/compare_builds.py) and the clean-clone
+        # times of run.sh (bench/time_setup.sh): optional, and of the same machine when present.
+        self.portable = self.extra("portable", lambda data: data["machine"]["cpu"])
+        self.setup = self.extra("setup", lambda data: data["cpu"])
+
+    def extra(self, key, cpu_of):
+        if key not in self.manifest:
+            return None
+        path = os.path.join(self.dir, self.manifest[key])
+        data = load_json(path)
+        try:
+            cpu = cpu_of(data)
+        except (KeyError, TypeError):
+            raise PageError("{}: names no CPU".format(path))
+        if cpu != self.machine.get("cpu"):
+            raise PageError("{}: measured on {}, the run set on {}".format(path, cpu, self.machine.get("cpu")))
+        return data
 
     def run_for(self, kind):
         """The run whose rows of `kind` the page shows: 'primary' for primary rays, else the first
@@ -190,7 +207,8 @@ def machine_section(runs):
     primary = runs.runs["primary"].report
     out.append("- Times: medians of {} after {}; reference for the error columns: {}.".format(
         plural(primary["repeats"], "run"), plural(primary["warmup_runs"], "warm-up"), primary.get("reference", "-")))
-    out.append("- Regenerate it all on this machine: `bash bench/reproduce.sh` (it builds `build/`, runs the "
+    out.append("- Regenerate it all on this machine: `bash bench/reproduce.sh` (it builds `build-native/` and "
+               "`build-portable/`, runs the "
                "steps below, draws the charts and writes this page with `/usr/bin/python3 bench/summarize.py page`); "
                "`bench/summarize.py check bench/RESULTS.md` says whether the page and the JSON still agree.")
     out.append("")
@@ -323,6 +341,56 @@ def build_section(runs):
     return out
 
 
+def step_command(runs, name):
+    return next((s["command"] for s in runs.manifest.get("steps", []) if s["name"] == name), None)
+
+
+def portable_section(runs):
+    data = runs.portable
+    out = ["## The portable build against the native one", ""]
+    if data is None:
+        return out + ["Not measured by this run set (its `portable` step did not run)."]
+    out += ["What `run.sh test` builds and users get (`TRIDENT_MARCH=portable`: an x86-64-v2 baseline, kernels "
+            "for SSE4.2, AVX2 and AVX-512 chosen at run time) against the native build measured above, on the "
+            "same rays: {} rounds, each a pair of runs per scene and structure seconds apart, the order "
+            "alternating; one thread. A cell: the rows' medians of the portable build's speed over the native's, "
+            "lowest–highest over the scenes (`{}`) and ray kinds, then their median. Command: `{}`.".format(
+                data["rounds"], data["each_scene"], step_command(runs, "portable") or "-"), ""]
+    rows = data["rows"]
+    structures = ordered([r["structure"] for r in rows], ["bvh", "bvh2", "kdtree", "octree"])
+    traversals = ordered([r["traversal"] for r in rows], TRAVERSAL_ORDER)
+    body = []
+    for s in structures:
+        cells = [name_of(s)]
+        for t in traversals:
+            medians = [r["median"] for r in rows if r["structure"] == s and r["traversal"] == t]
+            cells.append("-" if not medians else "{} ({})".format(span(medians), two(median_of(medians))))
+        body.append(cells)
+    out.append(table(["structure"] + list(traversals), body))
+    every = [r["median"] for r in rows]
+    out += ["", "{} rows; their medians {}, the median of those {}.".format(len(every), span(every),
+                                                                           two(median_of(every)))]
+    return out
+
+
+def setup_section(runs):
+    out = ["## What a newcomer waits", ""]
+    if runs.setup is None:
+        return out + ["Not measured by this run set (its `setup` step did not run)."]
+    out += ["The README's two commands, each from a clean clone of commit `{}` (packages installed, no build "
+            "folders, `../shared` beside it), on this machine ({} hardware threads), timed by "
+            "`bench/time_setup.sh`.".format(runs.setup["commit"], runs.setup["hardware_threads"]), ""]
+    out.append(table(["command", "minutes"], [["`{}`".format(c["command"]), "{:.1f}".format(c["seconds"] / 60)]
+                                              for c in runs.setup["commands"]]))
+    return out
+
+
+def median_of(values):
+    ordered_values = sorted(values)
+    n = len(ordered_values)
+    return ordered_values[n // 2] if n % 2 else (ordered_values[n // 2 - 1] + ordered_values[n // 2]) / 2
+
+
 def fastest(run, scene, kind, threads):
     """Per structure of ours its fastest traversal's row, fastest structure first."""
     best = {}
@@ -423,6 +491,12 @@ def question_section(runs, study, scene_kinds):
 # ---- Targets -------------------------------------------------------------------------------------
 
 def target_rows(runs, spec, scene_kinds):
+    if spec["measure"] == "portable_ratio":
+        rows = [] if runs.portable is None else runs.portable["rows"]
+        return None, [r for r in rows if all(r.get(k) == v for k, v in spec.get("rows", {}).items())]
+    if spec["measure"] == "setup_seconds":
+        commands = [] if runs.setup is None else runs.setup["commands"]
+        return None, [dict(c, scene="`{}`".format(c["command"])) for c in commands if c["command"] == spec["command"]]
     run = runs.runs.get(spec.get("run", "primary"))
     if run is None:
         return None, []
@@ -443,7 +517,11 @@ def measure(runs, spec, scene_kinds):
     run, rows = target_rows(runs, spec, scene_kinds)
     out = []
     for r in rows:
-        if spec["measure"] == "value":
+        if spec["measure"] == "portable_ratio":
+            out.append((r, r["median"], True))
+        elif spec["measure"] == "setup_seconds":
+            out.append((r, r["seconds"], False))
+        elif spec["measure"] == "value":
             out.append((r, r.get(spec["column"]), False))
         elif spec["measure"] == "speed_ratio":
             paired = r.get(spec["paired"]) if "paired" in spec else None
@@ -473,6 +551,8 @@ def checked_targets(targets):
             missing.append("to")
         if spec.get("measure") in ("value", "column_ratio") and "column" not in spec:
             missing.append("column")
+        if spec.get("measure") == "setup_seconds" and "command" not in spec:
+            missing.append("command")
         if missing:
             raise PageError("bench/targets.json: target {} ({}) lacks {}".format(
                 i + 1, spec.get("target", "unnamed"), ", ".join(missing)))
@@ -485,6 +565,10 @@ def meets(spec, value):
 
 def describe(values, spec):
     figures = [v for _, v, _ in values]
+    if spec["measure"] == "portable_ratio":
+        return "{} (paired)".format(span(figures))
+    if spec["measure"] == "setup_seconds":
+        return "{} s".format(span(figures, fmt))
     if spec["measure"] != "speed_ratio":
         return (span(figures, fmt if spec["measure"] == "value" else two) + " " + spec.get("unit", "")).strip()
     paired = [p for _, _, p in values]
@@ -545,7 +629,8 @@ def page(manifest_path, study_table_path, scenes_path, targets_path):
             "typed in. What was tried, kept or dropped, with the figures of older runs and machines, is in "
             "[experiments/](experiments/README.md), one file per topic.", ""]
     for section in (machine_section(runs), study_section(runs, study), embree_section(runs), build_section(runs),
-                    question_section(runs, study, scene_kinds), targets_section(runs, targets, scene_kinds)):
+                    question_section(runs, study, scene_kinds), portable_section(runs), setup_section(runs),
+                    targets_section(runs, targets, scene_kinds)):
         out += section + [""]
     out += ["## Trials", "",
             "[experiments/README.md](experiments/README.md): BVH build, BVH traversal, KD-tree, Octree, packets, "

@@ -8,5 +8,9 @@ namespace trident {
 
 template struct PacketKernels<WideBvh<4, 4>, KernelArch>;
 template struct PacketKernels<WideBvh<8, 4>, KernelArch>;
+#if TRIDENT_PORTABLE_BUILD && TRIDENT_KERNEL_LANES > 4  // 4-lane packets in this file's instruction set
+template struct PacketKernels<WideBvh<4, 4>, FourLanesIn<kKernelWidth>>;
+template struct PacketKernels<WideBvh<8, 4>, FourLanesIn<kKernelWidth>>;
+#endif
 
 }  // namespace trident

@@ -7,5 +7,8 @@
 namespace trident {
 
 template struct PacketKernels<Octree, KernelArch>;
+#if TRIDENT_PORTABLE_BUILD && TRIDENT_KERNEL_LANES > 4  // 4-lane packets in this file's instruction set
+template struct PacketKernels<Octree, FourLanesIn<kKernelWidth>>;
+#endif
 
 }  // namespace trident

@@ -46,11 +46,12 @@ void trace_single(const Structure& structure, const Rays& rays, std::span<Result
     }
 }
 
-/// One packet of the rays at `index` (at most the width's lanes), its results written to `out`.
-template <bool AnyHit, SimdWidth Width, class Structure, class Rays>
+/// One packet of the rays at `index` (at most the width's lanes), its results written to `out`,
+/// traced in the kernel file of width `File`.
+template <bool AnyHit, SimdWidth Width, SimdWidth File, class Structure, class Rays>
 void trace_packet(const Structure& structure, const Rays& rays, std::span<const std::size_t> index,
                   std::span<Result<AnyHit>> out, PacketVariant variant) {
-    using Kernels = RenderKernels<Structure, Width>;
+    using Kernels = RenderKernels<Structure, Width, File>;
     std::array<Ray, Kernels::kLanes> lane_rays;
     for (std::size_t k = 0; k < index.size(); ++k) lane_rays[k] = rays.ray(index[k]);
     const std::span<const Ray> packet(lane_rays.data(), index.size());
@@ -64,17 +65,17 @@ void trace_packet(const Structure& structure, const Rays& rays, std::span<const 
     }
 }
 
-template <bool AnyHit, SimdWidth Width, class Structure>
+template <bool AnyHit, SimdWidth Width, SimdWidth File, class Structure>
 void trace_packets(const Structure& structure, const RayList& rays, std::span<Result<AnyHit>> out,
                    PacketGrouping grouping, PacketVariant variant) {
     for (std::size_t i = 0; i < rays.size(); ++i)
         if (!is_traced(rays.ray(i))) out[i] = Result<AnyHit>{};
     for_each_stream_packet(rays.rays, lane_count(Width), grouping, [&](std::span<const std::size_t> index) {
-        trace_packet<AnyHit, Width>(structure, rays, index, out, variant);
+        trace_packet<AnyHit, Width, File>(structure, rays, index, out, variant);
     });
 }
 
-template <bool AnyHit, SimdWidth Width, class Structure>
+template <bool AnyHit, SimdWidth Width, SimdWidth File, class Structure>
 void trace_packets(const Structure& structure, const GatheredRays& rays, std::span<Result<AnyHit>> out,
                    PacketGrouping, PacketVariant variant) {
     constexpr std::size_t kLanes = lane_count(Width);
@@ -82,8 +83,8 @@ void trace_packets(const Structure& structure, const GatheredRays& rays, std::sp
     for (std::size_t first = 0; first < rays.size(); first += kLanes) {
         const std::size_t lanes = std::min(kLanes, rays.size() - first);
         for (std::size_t k = 0; k < lanes; ++k) index[k] = first + k;
-        trace_packet<AnyHit, Width>(structure, rays, std::span<const std::size_t>(index.data(), lanes), out,
-                                    variant);
+        trace_packet<AnyHit, Width, File>(structure, rays, std::span<const std::size_t>(index.data(), lanes), out,
+                                          variant);
     }
 }
 
@@ -92,26 +93,20 @@ void trace_stream(const AnyAccel& accel, const Rays& rays, std::span<Result<AnyH
                   TriangleTest test) {
     // Single rays take the variant as template arguments; the packet kernels take it at run time.
     if (traversal.width == SimdWidth::scalar) {
-#if TRIDENT_SINGLE_RAY_KERNELS
         // The portable build's single rays of a list run in the widest kernel file the CPU (and the
-        // cap) allow, when it is an AVX2 or AVX-512 one; gathered rays stay at the baseline.
+        // cap) allow; gathered rays stay at the baseline.
         if constexpr (std::is_same_v<Rays, RayList>) {
-            if (const SimdWidth file = widest_supported(); lane_count(file) > 4) {
+            const bool in_kernel_file = in_widest_kernel_file([&]<SimdWidth File>() {
                 accel.visit([&](const auto& structure) {
-                    dispatch_width(file, [&]<SimdWidth W>() {
-                        if constexpr (lane_count(W) > 4) {
-                            using FileKernels = SingleRayKernels<std::decay_t<decltype(structure)>, W>;
-                            if constexpr (AnyHit)
-                                FileKernels::occlude_rays(structure, rays.rays, out, test, traversal.slabs);
-                            else
-                                FileKernels::intersect_rays(structure, rays.rays, out, test, traversal.slabs);
-                        }
-                    });
+                    using FileKernels = SingleRayKernels<std::decay_t<decltype(structure)>, File>;
+                    if constexpr (AnyHit)
+                        FileKernels::occlude_rays(structure, rays.rays, out, test, traversal.slabs);
+                    else
+                        FileKernels::intersect_rays(structure, rays.rays, out, test, traversal.slabs);
                 });
-                return;
-            }
+            });
+            if (in_kernel_file) return;
         }
-#endif
         with_traversal_variant(test, traversal.slabs, [&](auto test_tag, auto slabs_tag) {
             accel.visit([&](const auto& structure) {
                 trace_single<AnyHit, decltype(test_tag)::value, decltype(slabs_tag)::value>(structure, rays, out);
@@ -120,10 +115,19 @@ void trace_stream(const AnyAccel& accel, const Rays& rays, std::span<Result<AnyH
         return;
     }
     const PacketVariant variant{.test = test, .slabs = traversal.slabs};
+    if (traversal.width == SimdWidth::w4 && is_runnable(traversal.width)) {
+        // And so do its 4-lane packets, in that file's instruction set (RenderKernels' File).
+        const bool in_kernel_file = in_widest_kernel_file([&]<SimdWidth File>() {
+            accel.visit([&](const auto& structure) {
+                trace_packets<AnyHit, SimdWidth::w4, File>(structure, rays, out, traversal.grouping, variant);
+            });
+        });
+        if (in_kernel_file) return;
+    }
     accel.visit([&](const auto& structure) {
         dispatch_width(traversal.width, [&]<SimdWidth W>() {
             if constexpr (W != SimdWidth::scalar)
-                trace_packets<AnyHit, W>(structure, rays, out, traversal.grouping, variant);
+                trace_packets<AnyHit, W, W>(structure, rays, out, traversal.grouping, variant);
         });
     });
 }

@@ -27,23 +27,31 @@ void trace_primary_blocks(const Structure& structure, const Camera& camera, cons
     });
 }
 
+/// RenderKernels<Structure, Width, File> is defined in File's kernel file, for its own width or
+/// (portable build, wider files) for 4 lanes.
+template <SimdWidth Width, SimdWidth File>
+inline constexpr bool kDefinedHere =
+    File == kKernelWidth && (Width == File || (TRIDENT_PORTABLE_BUILD && Width == SimdWidth::w4));
+
 }  // namespace
 
-template <class Structure, SimdWidth Width>
-void RenderKernels<Structure, Width>::trace_primary_tile(const Structure& structure, const Camera& camera,
+template <class Structure, SimdWidth Width, SimdWidth File>
+void RenderKernels<Structure, Width, File>::trace_primary_tile(const Structure& structure, const Camera& camera,
                                                          const ImageTile& tile, std::span<Hit> hits,
                                                          PacketVariant variant) {
-    using Arch = ArchOf<Width>;
+    static_assert(kDefinedHere<Width, File>);
+    using Arch = PacketArchInFile<Width>;
     trace_primary_blocks<Arch, NoCounters>(structure, camera, tile, variant,
                                            [&](const PrimaryBlock<Arch>& block, const HitPacket<Arch>& packet_hits,
                                                const NoCounters&) { block.store(packet_hits, tile, camera.width(), hits); });
 }
 
-template <class Structure, SimdWidth Width>
-void RenderKernels<Structure, Width>::count_primary_tile(const Structure& structure, const Camera& camera,
+template <class Structure, SimdWidth Width, SimdWidth File>
+void RenderKernels<Structure, Width, File>::count_primary_tile(const Structure& structure, const Camera& camera,
                                                          const ImageTile& tile, std::span<TraversalCounters> counts,
                                                          TriangleTest test) {
-    using Arch = ArchOf<Width>;
+    static_assert(kDefinedHere<Width, File>);
+    using Arch = PacketArchInFile<Width>;
     trace_primary_blocks<Arch, TraversalCounters>(
         structure, camera, tile, {.test = test},
         [&](const PrimaryBlock<Arch>& block, const HitPacket<Arch>&, const TraversalCounters& counters) {
@@ -53,10 +61,11 @@ void RenderKernels<Structure, Width>::count_primary_tile(const Structure& struct
         });
 }
 
-template <class Structure, SimdWidth Width>
-void RenderKernels<Structure, Width>::intersect_rays(const Structure& structure, std::span<const Ray> rays,
+template <class Structure, SimdWidth Width, SimdWidth File>
+void RenderKernels<Structure, Width, File>::intersect_rays(const Structure& structure, std::span<const Ray> rays,
                                                      std::span<Hit> hits, PacketVariant variant) {
-    using Arch = ArchOf<Width>;
+    static_assert(kDefinedHere<Width, File>);
+    using Arch = PacketArchInFile<Width>;
     const RayPacket<Arch> packet(rays);
     HitPacket<Arch> packet_hits(packet);
     NoCounters counters;
@@ -64,17 +73,19 @@ void RenderKernels<Structure, Width>::intersect_rays(const Structure& structure,
     packet_hits.store(hits.first(rays.size()));
 }
 
-template <class Structure, SimdWidth Width>
-std::uint32_t RenderKernels<Structure, Width>::occlude_rays(const Structure& structure, std::span<const Ray> rays,
+template <class Structure, SimdWidth Width, SimdWidth File>
+std::uint32_t RenderKernels<Structure, Width, File>::occlude_rays(const Structure& structure, std::span<const Ray> rays,
                                                             PacketVariant variant) {
-    const RayPacket<ArchOf<Width>> packet(rays);
+    static_assert(kDefinedHere<Width, File>);
+    const RayPacket<PacketArchInFile<Width>> packet(rays);
     NoCounters counters;
     return simd::mask_bits(occlude_packet(structure, packet, counters, variant));
 }
 
-// The portable build's 8- and 16-lane files only: the 4-lane file's x86-64-v2 is the baseline's own,
-// and a native build's baseline is its kernels' instruction set.
-#if TRIDENT_SINGLE_RAY_KERNELS && TRIDENT_KERNEL_LANES > 4
+// The portable build's 8- and 16-lane files only (single rays, and 4-lane packets below): the
+// 4-lane file's x86-64-v2 is the baseline's own, and a native build's baseline is its kernels'
+// instruction set.
+#if TRIDENT_PORTABLE_BUILD && TRIDENT_KERNEL_LANES > 4
 template <class Structure, SimdWidth File>
 [[gnu::flatten]] void SingleRayKernels<Structure, File>::trace_primary_tile(const Structure& structure,
                                                                             const Camera& camera, const ImageTile& tile,
@@ -127,6 +138,13 @@ template struct SingleRayKernels<WideBvh<4, 4>, kKernelWidth>;
 template struct SingleRayKernels<WideBvh<8, 4>, kKernelWidth>;
 template struct SingleRayKernels<KdTree, kKernelWidth>;
 template struct SingleRayKernels<Octree, kKernelWidth>;
+
+template struct RenderKernels<BruteForce, SimdWidth::w4, kKernelWidth>;
+template struct RenderKernels<Bvh, SimdWidth::w4, kKernelWidth>;
+template struct RenderKernels<WideBvh<4, 4>, SimdWidth::w4, kKernelWidth>;
+template struct RenderKernels<WideBvh<8, 4>, SimdWidth::w4, kKernelWidth>;
+template struct RenderKernels<KdTree, SimdWidth::w4, kKernelWidth>;
+template struct RenderKernels<Octree, SimdWidth::w4, kKernelWidth>;
 
 #endif
 

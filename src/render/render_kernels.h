@@ -18,7 +18,10 @@
 
 namespace trident {
 
-template <class Structure, SimdWidth Width>
+/// `Width`'s packet loops as compiled in the kernel file of width `File`: the width's own file, or
+/// in the portable build 4-lane packets in the 8- or 16-lane file (simd/kernel_arch.h,
+/// FourLanesIn), whose instruction set the 4-lane file, being the baseline's, lacks.
+template <class Structure, SimdWidth Width, SimdWidth File = Width>
 struct RenderKernels {
     static constexpr std::size_t kLanes = lane_count(Width);
 
@@ -38,8 +41,7 @@ struct RenderKernels {
 /// Single rays compiled in the kernel file of `File`'s width, so with its instruction set: in the
 /// portable build the wide BVH's node tests, the triangle tests and everything else a ray's walk
 /// inlines get AVX2 or AVX-512 code on a CPU that has it, where the baseline's copy is SSE4.2
-/// (render/trace.cpp and render/ray_stream.cpp call them when TRIDENT_SINGLE_RAY_KERNELS is set;
-/// only the 8- and 16-lane files hold them, the 4-lane one being the baseline's x86-64-v2).
+/// (only the 8- and 16-lane files hold them, the 4-lane one being the baseline's x86-64-v2).
 /// Each walk is inlined into these loops (gnu::flatten), so it is compiled here and not taken
 /// from the baseline's COMDAT copy; the hits are those of the baseline's walk, bit for bit.
 template <class Structure, SimdWidth File>
@@ -53,5 +55,26 @@ struct SingleRayKernels {
     static void occlude_rays(const Structure& structure, std::span<const Ray> rays, std::span<std::uint8_t> occluded,
                              TriangleTest test, SlabTest slabs);
 };
+
+/// In the portable build (TRIDENT_PORTABLE_BUILD), calls f.template operator()<File>() for the
+/// widest kernel file the CPU and the cap allow, when it is an 8- or 16-lane one, and returns
+/// true: the caller then runs the baseline's work (single rays, 4-lane packets) there, as
+/// SingleRayKernels<Structure, File> and RenderKernels<Structure, SimdWidth::w4, File>. Returns
+/// false, calling nothing, otherwise and in a native build, whose baseline is its kernels' own
+/// instruction set.
+template <class F>
+bool in_widest_kernel_file(F&& f) {
+#if TRIDENT_PORTABLE_BUILD
+    const SimdWidth file = widest_supported();
+    if (lane_count(file) <= 4) return false;
+    dispatch_width(file, [&]<SimdWidth File>() {
+        if constexpr (lane_count(File) > 4) f.template operator()<File>();
+    });
+    return true;
+#else
+    (void)f;
+    return false;
+#endif
+}
 
 }  // namespace trident

@@ -32,22 +32,16 @@ void trace_primary(const AnyAccel& accel, const Camera& camera, std::span<Hit> h
         throw std::invalid_argument("trace_primary: the hit buffer does not match the image size");
     // Single rays take the variant as template arguments; the packet kernels take it at run time.
     if (width == SimdWidth::scalar) {
-#if TRIDENT_SINGLE_RAY_KERNELS
-        // The portable build's single rays run in the widest kernel file the CPU (and the cap) allow,
-        // when it is an AVX2 or AVX-512 one.
-        if (const SimdWidth file = widest_supported(); lane_count(file) > 4) {
+        // The portable build's single rays run in the widest kernel file the CPU (and the cap) allow.
+        const bool in_kernel_file = in_widest_kernel_file([&]<SimdWidth File>() {
             accel.visit([&](const auto& structure) {
                 using Structure = std::decay_t<decltype(structure)>;
-                dispatch_width(file, [&]<SimdWidth W>() {
-                    if constexpr (lane_count(W) > 4)
-                        for_each_image_tile(camera, [&](const ImageTile& tile) {
-                            SingleRayKernels<Structure, W>::trace_primary_tile(structure, camera, tile, hits, test, slabs);
-                        });
+                for_each_image_tile(camera, [&](const ImageTile& tile) {
+                    SingleRayKernels<Structure, File>::trace_primary_tile(structure, camera, tile, hits, test, slabs);
                 });
             });
-            return;
-        }
-#endif
+        });
+        if (in_kernel_file) return;
         with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
             accel.visit([&](const auto& structure) {
                 for_each_pixel_tiled(camera, [&](std::uint32_t x, std::uint32_t y, std::size_t i) {
@@ -58,6 +52,19 @@ void trace_primary(const AnyAccel& accel, const Camera& camera, std::span<Hit> h
             });
         });
         return;
+    }
+    if (width == SimdWidth::w4 && is_runnable(width)) {
+        // And so do its 4-lane packets, in that file's instruction set (RenderKernels' File).
+        const bool in_kernel_file = in_widest_kernel_file([&]<SimdWidth File>() {
+            accel.visit([&](const auto& structure) {
+                using Structure = std::decay_t<decltype(structure)>;
+                for_each_image_tile(camera, [&](const ImageTile& tile) {
+                    RenderKernels<Structure, SimdWidth::w4, File>::trace_primary_tile(structure, camera, tile, hits,
+                                                                                      {.test = test, .slabs = slabs});
+                });
+            });
+        });
+        if (in_kernel_file) return;
     }
     accel.visit([&](const auto& structure) {
         using Structure = std::decay_t<decltype(structure)>;

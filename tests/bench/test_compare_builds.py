@@ -5,9 +5,11 @@
 
 Two rounds over the teapot and two structures (with the asteroid too, the test took 80 s
 under the sanitizers): one table row per scene, structure, traversal and
-ray kind the runs share, each ratio a positive number, the Markdown file the same table; a binary
+ray kind the runs share, each ratio a positive number, the Markdown file the same table, the JSON
+file the same rows with every round's ratio; a binary
 that does not exist is one line on stderr and exit 1.
 """
+import json
 import os
 import subprocess
 import sys
@@ -20,9 +22,9 @@ def main():
     bench = os.path.join(sys.argv[1], "trident-bench")
     failures = []
     with tempfile.TemporaryDirectory() as scratch:
-        markdown = os.path.join(scratch, "compare.md")
+        markdown, json_path = os.path.join(scratch, "compare.md"), os.path.join(scratch, "compare.json")
         done = subprocess.run([sys.executable, SCRIPT, bench, bench, "--rounds", "2", "--each-scene", "teapot",
-                               "--each-accel", "bvh,octree", "--markdown", markdown, "--", "--simd", "scalar,simd4",
+                               "--each-accel", "bvh,octree", "--markdown", markdown, "--json", json_path, "--", "--simd", "scalar,simd4",
                                "--rays", "primary,shadow", "--threads", "1", "--embree", "none", "--width", "32",
                                "--height", "18", "--repeats", "1"], capture_output=True, text=True)
         if done.returncode != 0:
@@ -40,6 +42,21 @@ def main():
                     failures.append("the Markdown file differs from what was printed")
         else:
             failures.append("no Markdown file written")
+        if os.path.exists(json_path):
+            with open(json_path) as f:
+                report = json.load(f)
+            printed = {tuple(x.strip() for x in row.strip("|").split("|")[:4]) +
+                       tuple(round(float(x), 3) for x in row.strip("|").split("|")[5:8]) for row in rows}
+            stored = {(r["scene"], r["structure"], r["traversal"], r["rays"], round(r["median"], 3),
+                       round(r["min"], 3), round(r["max"], 3)) for r in report["rows"]}
+            if printed != stored:
+                failures.append("the JSON rows differ from the table: {} against {}".format(stored, printed))
+            if any(len(r["ratios"]) != 2 for r in report["rows"]) or report["rounds"] != 2:
+                failures.append("the JSON should hold both rounds' ratios of every row")
+            if not report.get("machine", {}).get("cpu"):
+                failures.append("the JSON names no CPU")
+        else:
+            failures.append("no JSON file written")
         missing = subprocess.run([sys.executable, SCRIPT, os.path.join(scratch, "nothing"), bench, "--", "--threads", "1"],
                                  capture_output=True, text=True)
         if missing.returncode != 1 or len(missing.stderr.strip().splitlines()) != 1:

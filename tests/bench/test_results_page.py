@@ -262,6 +262,74 @@ class Charts(RunSetFixture):
         self.assertIn("no rows of diffuse rays", missing.stderr)
 
 
+def portable_rows():
+    """The portable build over the native one: the BVH's 4 lanes fast on both scenes, its single rays
+    slow on the complex one."""
+    rows = []
+    for scene, scalar in (("simple", 1.00), ("complex", 0.90)):
+        for traversal, ratio in (("scalar", scalar), ("simd4", 1.05)):
+            rows.append({"scene": scene, "structure": "bvh", "traversal": traversal, "rays": "primary",
+                         "threads": 1, "median": ratio, "min": ratio - 0.01, "max": ratio + 0.01,
+                         "ratios": [ratio - 0.01, ratio, ratio + 0.01]})
+    return rows
+
+
+PORTABLE_TARGETS = [
+    {"issue": 34, "target": "portable at least 0.97x native", "measure": "portable_ratio", "at_least": 0.97,
+     "reason": "Portable reason.", "trials": "experiments/portable_build.md"},
+    {"issue": 34, "target": "test under 12 minutes", "measure": "setup_seconds", "command": "bash run.sh test",
+     "at_most": 720, "reason": "Test reason.", "trials": "experiments/test_time.md"},
+    {"issue": 34, "target": "bench under 5 minutes", "measure": "setup_seconds", "command": "bash run.sh bench",
+     "at_most": 300, "reason": "Bench reason.", "trials": "experiments/test_time.md"},
+]
+
+
+class PortableAndSetup(RunSetFixture):
+    def setUp(self):
+        super().setUp()
+        self.write("portable.json", {"rounds": 3, "each_scene": "simple,complex", "machine": dict(MACHINE),
+                                     "rows": portable_rows()})
+        self.write("setup.json", {"commit": "abc1234", "cpu": MACHINE["cpu"], "hardware_threads": 2,
+                                  "commands": [{"command": "bash run.sh test", "seconds": 600},
+                                               {"command": "bash run.sh bench", "seconds": 330}]})
+        self.write("targets.json", TARGETS + PORTABLE_TARGETS)
+        self.manifest.update(portable="portable.json", setup="setup.json")
+        self.manifest["steps"].append({"name": "portable", "seconds": 60, "command": "compare_builds.py ..."})
+        self.write("run.json", self.manifest)
+
+    def test_the_ratios_per_structure_and_traversal(self):
+        portable = self.section(self.page(), "## The portable build against the native one")
+        cells = self.table_row(portable, "BVH").split(" | ")
+        self.assertEqual(cells[1:], ["0.90–1.00 (0.95)", "1.05 (1.05) |"])
+        self.assertIn("Command: `compare_builds.py ...`", portable)
+        self.assertIn("4 rows; their medians 0.90–1.05, the median of those 1.02.", portable)
+
+    def test_the_clean_clone_times(self):
+        setup = self.section(self.page(), "## What a newcomer waits")
+        self.assertIn("| `bash run.sh test` | 10.0 |", setup)
+        self.assertIn("| `bash run.sh bench` | 5.5 |", setup)
+
+    def test_their_targets(self):
+        targets = self.section(self.page(), "## Targets not met")
+        portable = self.table_row(targets, "34")
+        self.assertIn("0.90–1.05 (paired) | 3 of 4 | complex |", portable)
+        self.assertIn("bench under 5 minutes | 330 s | 0 of 1 | `bash run.sh bench` |", targets)
+        self.assertIn("test under 12 minutes (issue 34: 600 s)", targets)
+
+    def test_absent_they_are_not_measured(self):
+        del self.manifest["portable"], self.manifest["setup"]
+        self.write("run.json", self.manifest)
+        text = self.page()
+        self.assertIn("Not measured by this run set (its `portable` step did not run).", text)
+        self.assertIn("Not measured by this run set (its `setup` step did not run).", text)
+        self.assertIn("portable at least 0.97x native (issue 34", self.section(text, "## Targets not met"))
+
+    def test_another_machines_times_are_refused(self):
+        self.write("setup.json", {"commit": "abc1234", "cpu": "Another CPU", "hardware_threads": 2, "commands": []})
+        with self.assertRaisesRegex(results_page.PageError, "setup.json: measured on Another CPU"):
+            self.page()
+
+
 class TheCommittedPage(unittest.TestCase):
     def test_bench_results_md_is_what_its_json_gives(self):
         if not os.path.exists(os.path.join(SHARED, "BENCHMARK.md")):
