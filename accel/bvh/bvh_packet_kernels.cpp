@@ -7,8 +7,11 @@
 namespace trident {
 
 template struct PacketKernels<Bvh, KernelArch>;
-#if TRIDENT_PORTABLE_BUILD && TRIDENT_KERNEL_LANES > 4  // 4-lane packets in this file's instruction set
-template struct PacketKernels<Bvh, FourLanesIn<kKernelWidth>>;
+#if TRIDENT_FILE_HOLDS_W4  // the narrower packets in this file's instruction set
+template struct PacketKernels<Bvh, LanesIn<SimdWidth::w4, kKernelWidth>>;
+#endif
+#if TRIDENT_FILE_HOLDS_W8
+template struct PacketKernels<Bvh, LanesIn<SimdWidth::w8, kKernelWidth>>;
 #endif
 
 }  // namespace trident

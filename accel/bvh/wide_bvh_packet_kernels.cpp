@@ -8,9 +8,13 @@ namespace trident {
 
 template struct PacketKernels<WideBvh<4, 4>, KernelArch>;
 template struct PacketKernels<WideBvh<8, 4>, KernelArch>;
-#if TRIDENT_PORTABLE_BUILD && TRIDENT_KERNEL_LANES > 4  // 4-lane packets in this file's instruction set
-template struct PacketKernels<WideBvh<4, 4>, FourLanesIn<kKernelWidth>>;
-template struct PacketKernels<WideBvh<8, 4>, FourLanesIn<kKernelWidth>>;
+#if TRIDENT_FILE_HOLDS_W4  // the narrower packets in this file's instruction set
+template struct PacketKernels<WideBvh<4, 4>, LanesIn<SimdWidth::w4, kKernelWidth>>;
+template struct PacketKernels<WideBvh<8, 4>, LanesIn<SimdWidth::w4, kKernelWidth>>;
+#endif
+#if TRIDENT_FILE_HOLDS_W8
+template struct PacketKernels<WideBvh<4, 4>, LanesIn<SimdWidth::w8, kKernelWidth>>;
+template struct PacketKernels<WideBvh<8, 4>, LanesIn<SimdWidth::w8, kKernelWidth>>;
 #endif
 
 }  // namespace trident

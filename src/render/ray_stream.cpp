@@ -115,19 +115,10 @@ void trace_stream(const AnyAccel& accel, const Rays& rays, std::span<Result<AnyH
         return;
     }
     const PacketVariant variant{.test = test, .slabs = traversal.slabs};
-    if (traversal.width == SimdWidth::w4 && is_runnable(traversal.width)) {
-        // And so do its 4-lane packets, in that file's instruction set (RenderKernels' File).
-        const bool in_kernel_file = in_widest_kernel_file([&]<SimdWidth File>() {
-            accel.visit([&](const auto& structure) {
-                trace_packets<AnyHit, SimdWidth::w4, File>(structure, rays, out, traversal.grouping, variant);
-            });
-        });
-        if (in_kernel_file) return;
-    }
     accel.visit([&](const auto& structure) {
-        dispatch_width(traversal.width, [&]<SimdWidth W>() {
-            if constexpr (W != SimdWidth::scalar)
-                trace_packets<AnyHit, W, W>(structure, rays, out, traversal.grouping, variant);
+        // In the portable build, in the widest kernel file the CPU (and the cap) allow.
+        dispatch_packet_width(traversal.width, [&]<SimdWidth W, SimdWidth File>() {
+            trace_packets<AnyHit, W, File>(structure, rays, out, traversal.grouping, variant);
         });
     });
 }

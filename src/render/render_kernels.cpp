@@ -28,10 +28,10 @@ void trace_primary_blocks(const Structure& structure, const Camera& camera, cons
 }
 
 /// RenderKernels<Structure, Width, File> is defined in File's kernel file, for its own width or
-/// (portable build, wider files) for 4 lanes.
+/// (portable build, wider files) for a narrower one.
 template <SimdWidth Width, SimdWidth File>
 inline constexpr bool kDefinedHere =
-    File == kKernelWidth && (Width == File || (TRIDENT_PORTABLE_BUILD && Width == SimdWidth::w4));
+    File == kKernelWidth && (Width == File || (TRIDENT_PORTABLE_BUILD && lane_count(Width) < lane_count(File)));
 
 }  // namespace
 
@@ -82,7 +82,7 @@ std::uint32_t RenderKernels<Structure, Width, File>::occlude_rays(const Structur
     return simd::mask_bits(occlude_packet(structure, packet, counters, variant));
 }
 
-// The portable build's 8- and 16-lane files only (single rays, and 4-lane packets below): the
+// The portable build's 8- and 16-lane files only (single rays; the narrower packets below): the
 // 4-lane file's x86-64-v2 is the baseline's own, and a native build's baseline is its kernels'
 // instruction set.
 #if TRIDENT_PORTABLE_BUILD && TRIDENT_KERNEL_LANES > 4
@@ -139,13 +139,6 @@ template struct SingleRayKernels<WideBvh<8, 4>, kKernelWidth>;
 template struct SingleRayKernels<KdTree, kKernelWidth>;
 template struct SingleRayKernels<Octree, kKernelWidth>;
 
-template struct RenderKernels<BruteForce, SimdWidth::w4, kKernelWidth>;
-template struct RenderKernels<Bvh, SimdWidth::w4, kKernelWidth>;
-template struct RenderKernels<WideBvh<4, 4>, SimdWidth::w4, kKernelWidth>;
-template struct RenderKernels<WideBvh<8, 4>, SimdWidth::w4, kKernelWidth>;
-template struct RenderKernels<KdTree, SimdWidth::w4, kKernelWidth>;
-template struct RenderKernels<Octree, SimdWidth::w4, kKernelWidth>;
-
 #endif
 
 template struct RenderKernels<BruteForce, kKernelWidth>;
@@ -154,5 +147,22 @@ template struct RenderKernels<WideBvh<4, 4>, kKernelWidth>;
 template struct RenderKernels<WideBvh<8, 4>, kKernelWidth>;
 template struct RenderKernels<KdTree, kKernelWidth>;
 template struct RenderKernels<Octree, kKernelWidth>;
+
+#if TRIDENT_FILE_HOLDS_W4  // the narrower packets in this file's instruction set (simd/kernel_arch.h)
+template struct RenderKernels<BruteForce, SimdWidth::w4, kKernelWidth>;
+template struct RenderKernels<Bvh, SimdWidth::w4, kKernelWidth>;
+template struct RenderKernels<WideBvh<4, 4>, SimdWidth::w4, kKernelWidth>;
+template struct RenderKernels<WideBvh<8, 4>, SimdWidth::w4, kKernelWidth>;
+template struct RenderKernels<KdTree, SimdWidth::w4, kKernelWidth>;
+template struct RenderKernels<Octree, SimdWidth::w4, kKernelWidth>;
+#endif
+#if TRIDENT_FILE_HOLDS_W8
+template struct RenderKernels<BruteForce, SimdWidth::w8, kKernelWidth>;
+template struct RenderKernels<Bvh, SimdWidth::w8, kKernelWidth>;
+template struct RenderKernels<WideBvh<4, 4>, SimdWidth::w8, kKernelWidth>;
+template struct RenderKernels<WideBvh<8, 4>, SimdWidth::w8, kKernelWidth>;
+template struct RenderKernels<KdTree, SimdWidth::w8, kKernelWidth>;
+template struct RenderKernels<Octree, SimdWidth::w8, kKernelWidth>;
+#endif
 
 }  // namespace trident

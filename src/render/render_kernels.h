@@ -19,8 +19,9 @@
 namespace trident {
 
 /// `Width`'s packet loops as compiled in the kernel file of width `File`: the width's own file, or
-/// in the portable build 4-lane packets in the 8- or 16-lane file (simd/kernel_arch.h,
-/// FourLanesIn), whose instruction set the 4-lane file, being the baseline's, lacks.
+/// in the portable build a wider one (simd/kernel_arch.h, LanesIn): 4-lane packets in the 8- or
+/// 16-lane file, whose instruction set the 4-lane file, being the baseline's, lacks, and 8-lane
+/// packets in the 16-lane file (EVEX encodings, 32 registers).
 template <class Structure, SimdWidth Width, SimdWidth File = Width>
 struct RenderKernels {
     static constexpr std::size_t kLanes = lane_count(Width);
@@ -58,10 +59,9 @@ struct SingleRayKernels {
 
 /// In the portable build (TRIDENT_PORTABLE_BUILD), calls f.template operator()<File>() for the
 /// widest kernel file the CPU and the cap allow, when it is an 8- or 16-lane one, and returns
-/// true: the caller then runs the baseline's work (single rays, 4-lane packets) there, as
-/// SingleRayKernels<Structure, File> and RenderKernels<Structure, SimdWidth::w4, File>. Returns
-/// false, calling nothing, otherwise and in a native build, whose baseline is its kernels' own
-/// instruction set.
+/// true: the caller then traces its single rays there (SingleRayKernels<Structure, File>).
+/// Returns false, calling nothing, otherwise and in a native build, whose baseline is its
+/// kernels' own instruction set.
 template <class F>
 bool in_widest_kernel_file(F&& f) {
 #if TRIDENT_PORTABLE_BUILD
@@ -75,6 +75,27 @@ bool in_widest_kernel_file(F&& f) {
     (void)f;
     return false;
 #endif
+}
+
+/// Calls f.template operator()<W, File>() for the packets of `width` (not scalar): W == width, and
+/// File the kernel file they run in, the widest the CPU and the cap allow in the portable build
+/// (RenderKernels<Structure, W, File>), W's own in a native one. Throws as dispatch_width() when
+/// the width is not runnable here.
+template <class F>
+void dispatch_packet_width(SimdWidth width, F&& f) {
+    dispatch_width(width, [&]<SimdWidth W>() {
+        if constexpr (W != SimdWidth::scalar) {
+#if TRIDENT_PORTABLE_BUILD
+            if (const SimdWidth file = widest_supported(); lane_count(file) > lane_count(W)) {
+                dispatch_width(file, [&]<SimdWidth File>() {
+                    if constexpr (lane_count(File) > lane_count(W)) f.template operator()<W, File>();
+                });
+                return;
+            }
+#endif
+            f.template operator()<W, W>();
+        }
+    });
 }
 
 }  // namespace trident

@@ -53,27 +53,14 @@ void trace_primary(const AnyAccel& accel, const Camera& camera, std::span<Hit> h
         });
         return;
     }
-    if (width == SimdWidth::w4 && is_runnable(width)) {
-        // And so do its 4-lane packets, in that file's instruction set (RenderKernels' File).
-        const bool in_kernel_file = in_widest_kernel_file([&]<SimdWidth File>() {
-            accel.visit([&](const auto& structure) {
-                using Structure = std::decay_t<decltype(structure)>;
-                for_each_image_tile(camera, [&](const ImageTile& tile) {
-                    RenderKernels<Structure, SimdWidth::w4, File>::trace_primary_tile(structure, camera, tile, hits,
-                                                                                      {.test = test, .slabs = slabs});
-                });
-            });
-        });
-        if (in_kernel_file) return;
-    }
     accel.visit([&](const auto& structure) {
         using Structure = std::decay_t<decltype(structure)>;
-        dispatch_width(width, [&]<SimdWidth W>() {
-            if constexpr (W != SimdWidth::scalar)
-                for_each_image_tile(camera, [&](const ImageTile& tile) {
-                    RenderKernels<Structure, W>::trace_primary_tile(structure, camera, tile, hits,
-                                                                    {.test = test, .slabs = slabs});
-                });
+        // In the portable build, in the widest kernel file the CPU (and the cap) allow.
+        dispatch_packet_width(width, [&]<SimdWidth W, SimdWidth File>() {
+            for_each_image_tile(camera, [&](const ImageTile& tile) {
+                RenderKernels<Structure, W, File>::trace_primary_tile(structure, camera, tile, hits,
+                                                                      {.test = test, .slabs = slabs});
+            });
         });
     });
 }
