@@ -352,10 +352,10 @@ def portable_section(runs):
         return out + ["Not measured by this run set (its `portable` step did not run)."]
     out += ["What `run.sh test` builds and users get (`TRIDENT_MARCH=portable`: an x86-64-v2 baseline, kernels "
             "for SSE4.2, AVX2 and AVX-512 chosen at run time) against the native build measured above, on the "
-            "same rays: {} rounds, each a pair of runs per scene and structure seconds apart, the order "
+            "same rays: {}, each a pair of runs per scene and structure seconds apart, the order "
             "alternating; one thread. A cell: the rows' medians of the portable build's speed over the native's, "
             "lowest–highest over the scenes (`{}`) and ray kinds, then their median. Command: `{}`.".format(
-                data["rounds"], data["each_scene"], step_command(runs, "portable") or "-"), ""]
+                plural(data["rounds"], "round"), data["each_scene"], step_command(runs, "portable") or "-"), ""]
     rows = data["rows"]
     structures = ordered([r["structure"] for r in rows], ["bvh", "bvh2", "kdtree", "octree"])
     traversals = ordered([r["traversal"] for r in rows], TRAVERSAL_ORDER)
