@@ -30,26 +30,28 @@ void trace_primary_blocks(const Structure& structure, const Camera& camera, cons
 /// RenderKernels<Structure, Width, File> is defined in File's kernel file, for its own width or
 /// (portable build, wider files) for a narrower one.
 template <SimdWidth Width, SimdWidth File>
-inline constexpr bool kDefinedHere =
-    File == kKernelWidth && (Width == File || (TRIDENT_PORTABLE_BUILD && lane_count(Width) < lane_count(File)));
+inline constexpr bool kDefinedHere = File == kKernelWidth && (Width == File || (TRIDENT_PORTABLE_BUILD &&
+                                                                                lane_count(Width) < lane_count(File)));
 
 }  // namespace
 
 template <class Structure, SimdWidth Width, SimdWidth File>
 void RenderKernels<Structure, Width, File>::trace_primary_tile(const Structure& structure, const Camera& camera,
-                                                         const ImageTile& tile, std::span<Hit> hits,
-                                                         PacketVariant variant) {
+                                                               const ImageTile& tile, std::span<Hit> hits,
+                                                               PacketVariant variant) {
     static_assert(kDefinedHere<Width, File>);
     using Arch = PacketArchInFile<Width>;
-    trace_primary_blocks<Arch, NoCounters>(structure, camera, tile, variant,
-                                           [&](const PrimaryBlock<Arch>& block, const HitPacket<Arch>& packet_hits,
-                                               const NoCounters&) { block.store(packet_hits, tile, camera.width(), hits); });
+    trace_primary_blocks<Arch, NoCounters>(
+        structure, camera, tile, variant,
+        [&](const PrimaryBlock<Arch>& block, const HitPacket<Arch>& packet_hits, const NoCounters&) {
+            block.store(packet_hits, tile, camera.width(), hits);
+        });
 }
 
 template <class Structure, SimdWidth Width, SimdWidth File>
 void RenderKernels<Structure, Width, File>::count_primary_tile(const Structure& structure, const Camera& camera,
-                                                         const ImageTile& tile, std::span<TraversalCounters> counts,
-                                                         TriangleTest test) {
+                                                               const ImageTile& tile,
+                                                               std::span<TraversalCounters> counts, TriangleTest test) {
     static_assert(kDefinedHere<Width, File>);
     using Arch = PacketArchInFile<Width>;
     trace_primary_blocks<Arch, TraversalCounters>(
@@ -63,7 +65,7 @@ void RenderKernels<Structure, Width, File>::count_primary_tile(const Structure& 
 
 template <class Structure, SimdWidth Width, SimdWidth File>
 void RenderKernels<Structure, Width, File>::intersect_rays(const Structure& structure, std::span<const Ray> rays,
-                                                     std::span<Hit> hits, PacketVariant variant) {
+                                                           std::span<Hit> hits, PacketVariant variant) {
     static_assert(kDefinedHere<Width, File>);
     using Arch = PacketArchInFile<Width>;
     const RayPacket<Arch> packet(rays);
@@ -75,7 +77,7 @@ void RenderKernels<Structure, Width, File>::intersect_rays(const Structure& stru
 
 template <class Structure, SimdWidth Width, SimdWidth File>
 std::uint32_t RenderKernels<Structure, Width, File>::occlude_rays(const Structure& structure, std::span<const Ray> rays,
-                                                            PacketVariant variant) {
+                                                                  PacketVariant variant) {
     static_assert(kDefinedHere<Width, File>);
     const RayPacket<PacketArchInFile<Width>> packet(rays);
     NoCounters counters;
@@ -125,9 +127,9 @@ template <class Structure, SimdWidth File>
     with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
         for (std::size_t i = 0; i < rays.size(); ++i) {
             NoCounters counters;
-            occluded[i] = is_traced(rays[i]) &&
-                          structure.template occluded<decltype(test_tag)::value, decltype(slabs_tag)::value>(
-                              rays[i], counters);
+            occluded[i] =
+                is_traced(rays[i]) &&
+                structure.template occluded<decltype(test_tag)::value, decltype(slabs_tag)::value>(rays[i], counters);
         }
     });
 }
