@@ -4,8 +4,14 @@
 #include <array>
 
 #include "accel/kdtree/kd_builder.h"
+#include "simd/width.h"
 
 namespace trident::kd {
+
+#if TRIDENT_PORTABLE_BUILD && !TRIDENT_KD_AVX512
+// Asked per search, not once: the tests change the cap while the process runs.
+bool avx512_searches_runnable() { return is_runnable(SimdWidth::w16); }
+#endif
 
 Split SahBuilder::find_split(const NodeWork& node) const {
     std::array<Split, 3> best;

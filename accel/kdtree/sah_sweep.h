@@ -252,12 +252,23 @@ inline SweepBest sweep_events_avx512(std::span<const Event> events, const SweepS
 }
 #endif
 
+#if TRIDENT_PORTABLE_BUILD && !TRIDENT_KD_AVX512
+/// The portable build's AVX-512 searches, compiled in its 16-lane kernel file
+/// (kd_sweep_kernels.cpp), and whether this run may call them: the CPU has AVX-512 and
+/// TRIDENT_ISA allows it.
+SweepBest sweep_events_avx512_file(std::span<const Event> events, const SweepSetup& setup);
+bool avx512_searches_runnable();
+#endif
+
 /// The cheapest plane among the events of one axis, sorted in the sweep order; none found when
 /// every candidate would leave a child equal to the node.
 inline SweepBest sweep_events(std::span<const Event> events, const SweepSetup& setup) {
 #if TRIDENT_KD_AVX512
     return sweep_events_avx512(events, setup);
 #else
+#if TRIDENT_PORTABLE_BUILD
+    if (avx512_searches_runnable()) return sweep_events_avx512_file(events, setup);
+#endif
     return sweep_events_scalar(events, setup);
 #endif
 }
@@ -387,10 +398,17 @@ inline CountedPlane count_planes_avx512(const BoxEnds<8>& ends, std::size_t coun
 /// The same candidate weights in the same double operations give the same bits; a tie goes to the
 /// lower position and, at one position, to the planar triangles above, as the sweep's event order
 /// has it. `count` triangles, each one's ends lo[i] and hi[i].
+#if TRIDENT_PORTABLE_BUILD && !TRIDENT_KD_AVX512
+CountedPlane count_planes_avx512_file(const BoxEnds<8>& ends, std::size_t count, const SweepSetup& setup);
+#endif
+
 inline CountedPlane count_planes(const BoxEnds<8>& ends, std::size_t count, const SweepSetup& s) {
 #if TRIDENT_KD_AVX512
     return count_planes_avx512(ends, count, s);
 #else
+#if TRIDENT_PORTABLE_BUILD
+    if (avx512_searches_runnable()) return count_planes_avx512_file(ends, count, s);
+#endif
     return count_planes_scalar(ends, count, s);
 #endif
 }
