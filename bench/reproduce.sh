@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The run set behind bench/RESULTS.md: every table and chart of it, measured on this machine at
-# this commit, then the page generated from the JSON (bench/summarize.py page). About 50 minutes on
+# this commit, then the page generated from the JSON (bench/summarize.py page). About 40 minutes on
 # 2 cores (an estimate from the rows and the resolution; each step prints how long it took, and the
 # page lists the times). Run from anywhere, with ../shared beside the repository and nothing else
 # running on the machine:

@@ -392,16 +392,17 @@ inline CountedPlane count_planes_avx512(const BoxEnds<8>& ends, std::size_t coun
 }
 #endif
 
+#if TRIDENT_PORTABLE_BUILD && !TRIDENT_KD_AVX512
+/// The portable build's AVX-512 form, in its 16-lane kernel file (as sweep_events_avx512_file).
+CountedPlane count_planes_avx512_file(const BoxEnds<8>& ends, std::size_t count, const SweepSetup& setup);
+#endif
+
 /// The plane sweep_events finds over these triangles' events, found without events for nodes of a
 /// few triangles: every box end is a candidate, and its counts are counted directly (below: the
 /// boxes starting before it, above: those ending after it, in the plane: the flat ones on it).
 /// The same candidate weights in the same double operations give the same bits; a tie goes to the
 /// lower position and, at one position, to the planar triangles above, as the sweep's event order
 /// has it. `count` triangles, each one's ends lo[i] and hi[i].
-#if TRIDENT_PORTABLE_BUILD && !TRIDENT_KD_AVX512
-CountedPlane count_planes_avx512_file(const BoxEnds<8>& ends, std::size_t count, const SweepSetup& setup);
-#endif
-
 inline CountedPlane count_planes(const BoxEnds<8>& ends, std::size_t count, const SweepSetup& s) {
 #if TRIDENT_KD_AVX512
     return count_planes_avx512(ends, count, s);
