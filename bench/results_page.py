@@ -13,6 +13,7 @@ named `bvh8` or given a `bvh_width` column) gets its own columns, and Embree row
 """
 import json
 import os
+import statistics
 
 from summarize import LABELS, fmt, ordered, ratio, read_study_table, scenes_in_order, table
 
@@ -364,12 +365,12 @@ def portable_section(runs):
         cells = [name_of(s)]
         for t in traversals:
             medians = [r["median"] for r in rows if r["structure"] == s and r["traversal"] == t]
-            cells.append("-" if not medians else "{} ({})".format(span(medians), two(median_of(medians))))
+            cells.append("-" if not medians else "{} ({})".format(span(medians), two(statistics.median(medians))))
         body.append(cells)
     out.append(table(["structure"] + list(traversals), body))
     every = [r["median"] for r in rows]
     out += ["", "{} rows; their medians {}, the median of those {}.".format(len(every), span(every),
-                                                                           two(median_of(every)))]
+                                                                           two(statistics.median(every)))]
     return out
 
 
@@ -383,12 +384,6 @@ def setup_section(runs):
     out.append(table(["command", "minutes"], [["`{}`".format(c["command"]), "{:.1f}".format(c["seconds"] / 60)]
                                               for c in runs.setup["commands"]]))
     return out
-
-
-def median_of(values):
-    ordered_values = sorted(values)
-    n = len(ordered_values)
-    return ordered_values[n // 2] if n % 2 else (ordered_values[n // 2 - 1] + ordered_values[n // 2]) / 2
 
 
 def fastest(run, scene, kind, threads):

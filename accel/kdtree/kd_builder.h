@@ -221,6 +221,9 @@ private:
     std::span<const Triangle> file_triangles_;
     std::vector<Triangle> triangles_;  // those with finite corners, in Morton order
     const KdTreeOptions& options_;
+    // The plane searches' AVX-512 forms of the portable build's 16-lane file (sah_sweep.h): asked
+    // once here, where the build starts, and not in the searches, which run per node and axis.
+    const bool avx512_file_searches_ = avx512_file_searches_runnable();
     std::vector<Aabb> bounds_;  // per triangle of triangles_
     int max_depth_ = 0;
     tbb::enumerable_thread_specific<ThreadScratch> scratch_;

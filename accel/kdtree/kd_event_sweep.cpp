@@ -8,10 +8,9 @@
 
 namespace trident::kd {
 
-#if TRIDENT_PORTABLE_BUILD && !TRIDENT_KD_AVX512
-// Asked per search, not once: the tests change the cap while the process runs.
-bool avx512_searches_runnable() { return is_runnable(SimdWidth::w16); }
-#endif
+bool avx512_file_searches_runnable() {
+    return TRIDENT_PORTABLE_BUILD && !TRIDENT_KD_AVX512 && is_runnable(SimdWidth::w16);
+}
 
 Split SahBuilder::find_split(const NodeWork& node) const {
     std::array<Split, 3> best;
@@ -25,7 +24,7 @@ Split SahBuilder::find_split(const NodeWork& node) const {
 Split SahBuilder::sweep(const NodeWork& node, int axis) const {
     const AxisSetup setup = axis_setup(node.cell, axis, node.size());
     if (!(setup.half_area > 0.0)) return {};
-    const SweepBest best = sweep_events(node.events[axis], setup.sweep);
+    const SweepBest best = sweep_events(node.events[axis], setup.sweep, avx512_file_searches_);
     if (!best.found()) return {};
     return {axis, node.events[axis][best.tag >> 1].position, (best.tag & 1u) != 0,
             split_cost(best.weighted(), setup.half_area)};

@@ -48,7 +48,7 @@ Split SahBuilder::find_small_split(const SmallNode& node) const {
     for (int axis = 0; axis < 3; ++axis) {
         const AxisSetup setup = axis_setup(node.cell, axis, node.count);
         if (!(setup.half_area > 0.0)) continue;
-        const CountedPlane plane = count_planes(node.axes[axis], node.count, setup.sweep);
+        const CountedPlane plane = count_planes(node.axes[axis], node.count, setup.sweep, avx512_file_searches_);
         if (!plane.found()) continue;
         const double cost = split_cost(plane.weighted(), setup.half_area);
         if (cost < out.cost) out = {axis, plane.position, plane.planars_below, cost};  // ties to the lower axis

@@ -1,7 +1,7 @@
 // The KD-tree builder's AVX-512 plane searches (sah_sweep.h) for the portable build: its baseline
 // has only their scalar forms, so the 16-lane kernel file (x86-64-v4) compiles the AVX-512 ones,
-// and sweep_events() and count_planes() call them on a CPU that has AVX-512 and a cap that allows
-// it. Same results bit for bit as the scalar forms (sah_sweep.h). The other widths' files hold
+// and sweep_events() and count_planes() call them when the builder found, as it started, a CPU
+// that has AVX-512 and a cap that allows it. Same results bit for bit as the scalar forms (sah_sweep.h). The other widths' files hold
 // nothing. Each search is inlined here (gnu::flatten), so none of its helpers is emitted out of
 // line for another file to take (simd/README.md, the trap).
 #include "accel/kdtree/sah_sweep.h"

@@ -252,22 +252,26 @@ inline SweepBest sweep_events_avx512(std::span<const Event> events, const SweepS
 }
 #endif
 
+/// Whether the searches below may take the portable build's AVX-512 forms, compiled in its
+/// 16-lane kernel file (kd_sweep_kernels.cpp): the CPU has AVX-512 and TRIDENT_ISA allows it.
+/// False in any other build, whose searches follow its own -march. Asked once per build
+/// (SahBuilder), not per search: it reads cpuid's answer and the cap.
+bool avx512_file_searches_runnable();
+
 #if TRIDENT_PORTABLE_BUILD && !TRIDENT_KD_AVX512
-/// The portable build's AVX-512 searches, compiled in its 16-lane kernel file
-/// (kd_sweep_kernels.cpp), and whether this run may call them: the CPU has AVX-512 and
-/// TRIDENT_ISA allows it.
 SweepBest sweep_events_avx512_file(std::span<const Event> events, const SweepSetup& setup);
-bool avx512_searches_runnable();
 #endif
 
 /// The cheapest plane among the events of one axis, sorted in the sweep order; none found when
-/// every candidate would leave a child equal to the node.
-inline SweepBest sweep_events(std::span<const Event> events, const SweepSetup& setup) {
+/// every candidate would leave a child equal to the node. `avx512_file`: what
+/// avx512_file_searches_runnable() answered.
+inline SweepBest sweep_events(std::span<const Event> events, const SweepSetup& setup,
+                              [[maybe_unused]] bool avx512_file = false) {
 #if TRIDENT_KD_AVX512
     return sweep_events_avx512(events, setup);
 #else
 #if TRIDENT_PORTABLE_BUILD
-    if (avx512_searches_runnable()) return sweep_events_avx512_file(events, setup);
+    if (avx512_file) return sweep_events_avx512_file(events, setup);
 #endif
     return sweep_events_scalar(events, setup);
 #endif
@@ -393,7 +397,6 @@ inline CountedPlane count_planes_avx512(const BoxEnds<8>& ends, std::size_t coun
 #endif
 
 #if TRIDENT_PORTABLE_BUILD && !TRIDENT_KD_AVX512
-/// The portable build's AVX-512 form, in its 16-lane kernel file (as sweep_events_avx512_file).
 CountedPlane count_planes_avx512_file(const BoxEnds<8>& ends, std::size_t count, const SweepSetup& setup);
 #endif
 
@@ -402,13 +405,14 @@ CountedPlane count_planes_avx512_file(const BoxEnds<8>& ends, std::size_t count,
 /// boxes starting before it, above: those ending after it, in the plane: the flat ones on it).
 /// The same candidate weights in the same double operations give the same bits; a tie goes to the
 /// lower position and, at one position, to the planar triangles above, as the sweep's event order
-/// has it. `count` triangles, each one's ends lo[i] and hi[i].
-inline CountedPlane count_planes(const BoxEnds<8>& ends, std::size_t count, const SweepSetup& s) {
+/// has it. `count` triangles, each one's ends lo[i] and hi[i]; `avx512_file` as sweep_events().
+inline CountedPlane count_planes(const BoxEnds<8>& ends, std::size_t count, const SweepSetup& s,
+                                 [[maybe_unused]] bool avx512_file = false) {
 #if TRIDENT_KD_AVX512
     return count_planes_avx512(ends, count, s);
 #else
 #if TRIDENT_PORTABLE_BUILD
-    if (avx512_searches_runnable()) return count_planes_avx512_file(ends, count, s);
+    if (avx512_file) return count_planes_avx512_file(ends, count, s);
 #endif
     return count_planes_scalar(ends, count, s);
 #endif

@@ -4,8 +4,10 @@
 // with no batch in sight and defined in render_kernels.cpp, which CMake compiles once per packet
 // width with that width's instruction set (simd/kernel_arch.h), so the files that pick a width at
 // run time (trace.cpp, heat_map.cpp, ray_stream.cpp) compile for the build's baseline.
+#include <cstddef>
 #include <cstdint>
 #include <span>
+#include <utility>
 
 #include "accel/accel_stats.h"
 #include "accel/packet_kernels.h"
@@ -58,23 +60,31 @@ struct SingleRayKernels {
 };
 
 /// In the portable build (TRIDENT_PORTABLE_BUILD), calls f.template operator()<File>() for the
-/// widest kernel file the CPU and the cap allow, when it is an 8- or 16-lane one, and returns
-/// true: the caller then traces its single rays there (SingleRayKernels<Structure, File>).
-/// Returns false, calling nothing, otherwise and in a native build, whose baseline is its
-/// kernels' own instruction set.
-template <class F>
-bool in_widest_kernel_file(F&& f) {
+/// widest kernel file the CPU and the cap allow, when it holds more than `Lanes` lanes, and
+/// returns true: the caller then runs its work of `Lanes` lanes or fewer there. Returns false,
+/// calling nothing, otherwise and in a native build, whose every file has its kernels' own
+/// instruction set.
+template <std::size_t Lanes, class F>
+bool in_kernel_file_wider_than(F&& f) {
 #if TRIDENT_PORTABLE_BUILD
     const SimdWidth file = widest_supported();
-    if (lane_count(file) <= 4) return false;
+    if (lane_count(file) <= Lanes) return false;
     dispatch_width(file, [&]<SimdWidth File>() {
-        if constexpr (lane_count(File) > 4) f.template operator()<File>();
+        if constexpr (lane_count(File) > Lanes) f.template operator()<File>();
     });
     return true;
 #else
     (void)f;
     return false;
 #endif
+}
+
+/// The single rays' form of it: f.template operator()<File>() for an 8- or 16-lane file, where
+/// the caller traces its single rays (SingleRayKernels<Structure, File>) instead of at the
+/// baseline, whose 4-lane instruction set they would otherwise have.
+template <class F>
+bool in_widest_kernel_file(F&& f) {
+    return in_kernel_file_wider_than<lane_count(SimdWidth::w4)>(std::forward<F>(f));
 }
 
 /// Calls f.template operator()<W, File>() for the packets of `width` (not scalar): W == width, and
@@ -85,15 +95,9 @@ template <class F>
 void dispatch_packet_width(SimdWidth width, F&& f) {
     dispatch_width(width, [&]<SimdWidth W>() {
         if constexpr (W != SimdWidth::scalar) {
-#if TRIDENT_PORTABLE_BUILD
-            if (const SimdWidth file = widest_supported(); lane_count(file) > lane_count(W)) {
-                dispatch_width(file, [&]<SimdWidth File>() {
-                    if constexpr (lane_count(File) > lane_count(W)) f.template operator()<W, File>();
-                });
-                return;
-            }
-#endif
-            f.template operator()<W, W>();
+            const bool wider = in_kernel_file_wider_than<lane_count(W)>(
+                [&]<SimdWidth File>() { f.template operator()<W, File>(); });
+            if (!wider) f.template operator()<W, W>();
         }
     });
 }
