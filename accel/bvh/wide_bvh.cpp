@@ -25,7 +25,7 @@ WideBvh<Width, BlockSize> WideBvh<Width, BlockSize>::build(const Mesh& mesh, con
     stats.nodes = result.nodes_.size() + wide.leaves;
     stats.leaves = wide.leaves;
     stats.max_depth = wide.max_depth;
-    stats.references = binary.leaf_triangles().size();
+    stats.references = wide.references;  // zero-area triangles are left out
     stats.max_leaf_size = wide.max_leaf_triangles;
     stats.mean_leaf_size = wide.leaves ? double(stats.references) / double(wide.leaves) : 0.0;
     stats.sah_cost = wide.sah_cost;

@@ -187,8 +187,8 @@ Hit WideBvh<Width, BlockSize>::traverse(const Ray& ray, bvh::ChildRef start, Hit
                     return Vec3T<BlockFloat>(BlockFloat::load_aligned(corner[0]), BlockFloat::load_aligned(corner[1]),
                                              BlockFloat::load_aligned(corner[2]));
                 };
-                const auto hit = block_test.intersect(load(block.a), load(block.b), load(block.c),
-                                                      BlockFloat(bvh::triangle_limit(best)), h);
+                const auto hit = block_test.template intersect<ZeroAreaTriangles::left_out_by_caller>(
+                    load(block.a), load(block.b), load(block.c), BlockFloat(bvh::triangle_limit(best)), h);
                 std::uint32_t lanes = BlockLanes::bits(hit);
                 if (lanes == 0) continue;
                 const auto t = BlockLanes::to_array(h.t), u = BlockLanes::to_array(h.u), v = BlockLanes::to_array(h.v);

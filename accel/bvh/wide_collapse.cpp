@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "core/intersect_triangle.h"
+
 namespace trident::bvh {
 
 namespace {
@@ -20,11 +22,21 @@ double area_of(const Aabb& box) {
     return 2.0 * (x * y + y * z + z * x);
 }
 
-/// Per binary node: its triangles, and whether it becomes one wide leaf.
+/// Per binary node: the leaf-order triangles it spans, those of them with area (what its blocks
+/// hold), and whether it becomes one wide leaf.
 struct BinaryFacts {
-    std::vector<std::uint32_t> triangles;
+    std::vector<std::uint32_t> spanned, triangles;
     std::vector<char> is_leaf;
 };
+
+/// Per leaf-order triangle: whether it has area, in parallel.
+std::vector<char> triangles_with_area(std::span<const Triangle> triangles) {
+    std::vector<char> out(triangles.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size(), 4096), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) out[i] = has_area(triangles[i]);
+    });
+    return out;
+}
 
 /// Costs relative to one wide node step (all Width boxes against a ray) and to one block test.
 constexpr double kNodeStepCost = 1.0, kBlockTestCost = 1.0;
@@ -33,17 +45,20 @@ constexpr double kNodeStepCost = 1.0, kBlockTestCost = 1.0;
 /// as one leaf or as interior levels. A binary level inside a wide node costs the node step shared
 /// among the Width - 1 binary splits a full node holds.
 template <std::size_t Width, std::size_t BlockSize>
-BinaryFacts decide_leaves(std::span<const BvhNode> nodes, std::uint32_t leaf_limit) {
+BinaryFacts decide_leaves(std::span<const BvhNode> nodes, std::span<const char> with_area, std::uint32_t leaf_limit) {
     const std::uint32_t largest_leaf =
         std::min<std::uint32_t>({2 * BlockSize, leaf_limit, ChildRef::kMaxLeafTriangles});
     constexpr double kLevelCost = kNodeStepCost / double(Width - 1);
-    BinaryFacts facts{std::vector<std::uint32_t>(nodes.size()), std::vector<char>(nodes.size())};
+    BinaryFacts facts{std::vector<std::uint32_t>(nodes.size()), std::vector<std::uint32_t>(nodes.size()),
+                      std::vector<char>(nodes.size())};
     std::vector<double> cost(nodes.size());
     for (std::size_t i = nodes.size(); i-- > 0;) {
         const BvhNode& node = nodes[i];
         const double area = area_of(node.bounds);
         if (node.is_leaf()) {
-            facts.triangles[i] = node.triangle_count();
+            facts.spanned[i] = node.triangle_count();
+            const auto first = with_area.begin() + node.first_triangle();
+            facts.triangles[i] = std::uint32_t(std::count(first, first + node.triangle_count(), char(1)));
             if (facts.triangles[i] > ChildRef::kMaxLeafTriangles)
                 throw std::length_error("wide BVH: a leaf of " + std::to_string(facts.triangles[i]) + " triangles");
             facts.is_leaf[i] = 1;
@@ -51,6 +66,7 @@ BinaryFacts decide_leaves(std::span<const BvhNode> nodes, std::uint32_t leaf_lim
             continue;
         }
         const std::size_t left = i + 1, right = node.right_child();
+        facts.spanned[i] = facts.spanned[left] + facts.spanned[right];
         facts.triangles[i] = facts.triangles[left] + facts.triangles[right];
         const double descend = area * kLevelCost + cost[left] + cost[right];
         const double as_leaf = area * kBlockTestCost * double((facts.triangles[i] + BlockSize - 1) / BlockSize);
@@ -69,9 +85,10 @@ struct PlannedNode {
     std::uint32_t child_count;
 };
 
-/// A leaf to fill: the binary subtree's first leaf-order triangle, its count, its first block.
+/// A leaf to fill: the binary subtree's leaf-order triangles (first, count), how many of them have
+/// area, its first block.
 struct PlannedLeaf {
-    std::uint32_t first_triangle, triangle_count, first_block;
+    std::uint32_t first_triangle, spanned, triangle_count, first_block;
 };
 
 /// Opens, among the node's children that are not leaves, the one of largest surface area into its
@@ -108,7 +125,8 @@ WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, st
     static_assert(Width >= 2 && Width <= 16 && BlockSize >= 1);
     WideArrays<Width, BlockSize> out;
     if (nodes.empty()) return out;
-    const BinaryFacts facts = decide_leaves<Width, BlockSize>(nodes, leaf_limit);
+    const std::vector<char> with_area = triangles_with_area(triangles);
+    const BinaryFacts facts = decide_leaves<Width, BlockSize>(nodes, with_area, leaf_limit);
     const double root_area = area_of(nodes[0].bounds);
     const auto weight = [&](std::uint32_t binary) {
         return root_area > 0.0 ? area_of(nodes[binary].bounds) / root_area : 1.0;
@@ -142,7 +160,8 @@ WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, st
                     throw std::length_error("wide BVH: more than " + std::to_string(ChildRef::kMaxFirstBlock) +
                                             " triangle blocks");
                 refs[next * Width + k] = ChildRef::leaf(block_count, count);
-                leaves.push_back({first_triangle_of(nodes, b), count, block_count});
+                leaves.push_back({first_triangle_of(nodes, b), facts.spanned[b], count, block_count});
+                out.references += count;
                 const std::uint32_t blocks = (count + BlockSize - 1) / BlockSize;
                 block_count += blocks;
                 out.sah_cost += weight(b) * kBlockTestCost * double(blocks);
@@ -183,8 +202,13 @@ WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, st
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 1024), [&](const auto& range) {
         for (std::size_t l = range.begin(); l != range.end(); ++l) {
             const PlannedLeaf& leaf = leaves[l];
+            std::uint32_t source = leaf.first_triangle;
+            [[maybe_unused]] const std::uint32_t end = leaf.first_triangle + leaf.spanned;
             for (std::uint32_t k = 0; k < (leaf.triangle_count + BlockSize - 1) / BlockSize * BlockSize; ++k) {
-                const std::uint32_t source = leaf.first_triangle + std::min(k, leaf.triangle_count - 1);
+                // The next triangle with area; past the leaf's last, the padding repeats it.
+                if (k != 0 && k < leaf.triangle_count) ++source;
+                while (k < leaf.triangle_count && !with_area[source]) ++source;
+                assert(source < end);
                 TriangleBlock<BlockSize>& block = out.blocks[leaf.first_block + k / BlockSize];
                 const std::size_t lane = k % BlockSize;
                 const Triangle& tri = triangles[source];

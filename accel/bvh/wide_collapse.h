@@ -9,6 +9,11 @@
 // node absorbs share that step's cost. Interior wide nodes are then filled top-down by opening,
 // among their children that are not leaves, the one of largest surface area, until Width are held
 // (Embree's and the 2026-11-25 prototype's rule; the SAH gains most where the rays are most likely).
+//
+// Blocks hold only triangles with area (has_area): no triangle test hits the others, so leaving
+// them out changes no answer, and the tests of the wide tree skip their own lane-by-lane check
+// (ZeroAreaTriangles::left_out_by_caller), which a packet's lanes repeated for every triangle
+// they hit. A leaf of zero-area triangles only keeps its box and no block.
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -26,6 +31,7 @@ struct WideArrays {
     HugePageArray<WideNode<Width>> nodes;  // the root is node 0
     HugePageArray<TriangleBlock<BlockSize>> blocks;
     std::size_t leaves = 0;
+    std::size_t references = 0;  // triangles in blocks: those with area
     std::size_t max_depth = 0;  // of wide nodes and leaves, the root node at 0
     std::size_t max_leaf_triangles = 0;
     std::size_t child_slots_used = 0;  // over all nodes, for the mean children per node

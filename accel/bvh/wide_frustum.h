@@ -8,9 +8,9 @@
 //
 // The bounds are conservative against the lanes' own rounded arithmetic, not only against exact
 // arithmetic: a lane's near distance is fl(fl(plane - origin) * inv_dir), and rounding preserves
-// order, so the smallest of the four corner products fl(fl(plane - origin bound) * inv_dir bound)
-// is at most every lane's value; likewise the largest for far distances, widened as the robust
-// test widens them. Dropping a child is then a decision every lane's own test would have made.
+// order, so the smallest of the corner products fl(fl(plane - origin bound) * inv_dir bound) is at
+// most every lane's value (with inv_dir of one sign, two corners suffice: the constructor says
+// which); likewise the largest for far distances, widened as the robust test widens them. Dropping a child is then a decision every lane's own test would have made.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -65,8 +65,12 @@ public:
 
     explicit WideFrustumTest(const RayGroupBounds& group) : tmin_lo_(group.tmin_lo) {
         for (int axis = 0; axis < 3; ++axis) {
-            origin_lo_[axis] = Float(group.origin_lo[axis]);
-            origin_hi_[axis] = Float(group.origin_hi[axis]);
+            // The product (plane - origin) * inv_dir grows with the plane's offset where inv_dir is
+            // positive and shrinks where it is negative, so the smallest near distance takes the
+            // smallest offset (the farthest origin) there and the largest one here, and the
+            // largest far distance the other way round; only inv_dir's two ends remain to try.
+            near_origin_[axis] = Float(group.negative[axis] ? group.origin_lo[axis] : group.origin_hi[axis]);
+            far_origin_[axis] = Float(group.negative[axis] ? group.origin_hi[axis] : group.origin_lo[axis]);
             inv_lo_[axis] = Float(group.inv_lo[axis]);
             inv_hi_[axis] = Float(group.inv_hi[axis]);
             near_row_[axis] = group.negative[axis] ? upper_row(axis) : lower_row(axis);
@@ -84,12 +88,9 @@ public:
             for (int axis = 0; axis < 3; ++axis) {
                 const Float near = Float::load_aligned(node.bounds[near_row_[axis]] + first);
                 const Float far = Float::load_aligned(node.bounds[far_row_[axis]] + first);
-                const Float near_lo = near - origin_hi_[axis], near_hi = near - origin_lo_[axis];
-                const Float far_lo = far - origin_hi_[axis], far_hi = far - origin_lo_[axis];
-                const Float smallest_near = L::min(L::min(near_lo * inv_lo_[axis], near_lo * inv_hi_[axis]),
-                                                   L::min(near_hi * inv_lo_[axis], near_hi * inv_hi_[axis]));
-                Float largest_far = L::max(L::max(far_lo * inv_lo_[axis], far_lo * inv_hi_[axis]),
-                                           L::max(far_hi * inv_lo_[axis], far_hi * inv_hi_[axis]));
+                const Float near_offset = near - near_origin_[axis], far_offset = far - far_origin_[axis];
+                const Float smallest_near = L::min(near_offset * inv_lo_[axis], near_offset * inv_hi_[axis]);
+                Float largest_far = L::max(far_offset * inv_lo_[axis], far_offset * inv_hi_[axis]);
                 if constexpr (Slabs == SlabTest::robust) largest_far = largest_far * Float(detail::kFarScale);
                 entry = L::max(smallest_near, entry);
                 exit = L::min(largest_far, exit);
@@ -101,7 +102,7 @@ public:
     }
 
 private:
-    Float origin_lo_[3], origin_hi_[3], inv_lo_[3], inv_hi_[3];
+    Float near_origin_[3], far_origin_[3], inv_lo_[3], inv_hi_[3];
     int near_row_[3], far_row_[3];
     float tmin_lo_;
 };

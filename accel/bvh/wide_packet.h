@@ -24,19 +24,43 @@ namespace trident {
 
 namespace bvh {
 
+/// Per axis, the WideNode rows of the near and the far planes: one pair for a packet whose lanes
+/// share an octant (picked once, as the single ray picks them), else none, and each lane picks its
+/// own with selects.
+struct PlaneRows {
+    int near[3], far[3];
+
+    static std::optional<PlaneRows> of_octant(int octant) {
+        if (octant < 0) return std::nullopt;
+        PlaneRows rows;
+        for (int axis = 0; axis < 3; ++axis) {
+            const bool negative = (octant >> axis & 1) != 0;
+            rows.near[axis] = negative ? upper_row(axis) : lower_row(axis);
+            rows.far[axis] = negative ? lower_row(axis) : upper_row(axis);
+        }
+        return rows;
+    }
+};
+
 /// The lanes of `lanes` that enter child k of `node` before prune_limit(their closest hit), with
 /// their entry distances (+inf elsewhere): the single ray's box test, lane by lane.
 template <SlabTest Slabs, std::size_t Width, class Arch>
 std::pair<typename RayPacket<Arch>::Mask, typename RayPacket<Arch>::Float> lanes_entering(
     const WideNode<Width>& node, std::size_t k, const RayPacket<Arch>& rays, const HitPacket<Arch>& hits,
-    const typename RayPacket<Arch>::Mask& lanes) {
+    const typename RayPacket<Arch>::Mask& lanes, const std::optional<PlaneRows>& shared_rows) {
     using Float = typename RayPacket<Arch>::Float;
     Float entry = rays.tmin, exit = prune_limit(hits.t);
     for (int axis = 0; axis < 3; ++axis) {
-        const Float lo(node.bounds[lower_row(axis)][k]), hi(node.bounds[upper_row(axis)][k]);
-        detail::clip_to_ordered_slab<Slabs>(xsimd::select(rays.dir_negative[axis], hi, lo),
-                                            xsimd::select(rays.dir_negative[axis], lo, hi), rays.slab.origin[axis],
-                                            rays.slab.inv_dir[axis], entry, exit);
+        Float near, far;
+        if (shared_rows) {
+            near = Float(node.bounds[shared_rows->near[axis]][k]);
+            far = Float(node.bounds[shared_rows->far[axis]][k]);
+        } else {
+            const Float lo(node.bounds[lower_row(axis)][k]), hi(node.bounds[upper_row(axis)][k]);
+            near = xsimd::select(rays.dir_negative[axis], hi, lo);
+            far = xsimd::select(rays.dir_negative[axis], lo, hi);
+        }
+        detail::clip_to_ordered_slab<Slabs>(near, far, rays.slab.origin[axis], rays.slab.inv_dir[axis], entry, exit);
     }
     const auto enters = lanes & (entry <= exit);
     return {enters, xsimd::select(enters, entry, Float(kInfinity))};
@@ -62,7 +86,7 @@ typename RayPacket<Arch>::Mask test_triangle_lanes(const Intersector& intersecto
     const Vec3T<Float> b(Float(block.b[0][k]), Float(block.b[1][k]), Float(block.b[2][k]));
     const Vec3T<Float> c(Float(block.c[0][k]), Float(block.c[1][k]), Float(block.c[2][k]));
     TriangleHitT<Float> h{Float(0.0f), Float(0.0f), Float(0.0f)};  // read where hit only
-    const Mask hit = lanes & intersector.intersect(a, b, c, limits, h);
+    const Mask hit = lanes & intersector.template intersect<ZeroAreaTriangles::left_out_by_caller>(a, b, c, limits, h);
     if (!xsimd::any(hit)) return lanes;
     if constexpr (AnyHit) {
         blocked = blocked | hit;
@@ -169,6 +193,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
     // (wide_frustum.h), and lane by lane only the children some lane may enter.
     const std::optional<bvh::RayGroupBounds> group = bvh::RayGroupBounds::of(rays, live);
     const bvh::WideFrustumTest<Width, Slabs> frustum(group.value_or(bvh::RayGroupBounds{}));
+    const std::optional<bvh::PlaneRows> shared_rows = bvh::PlaneRows::of_octant(rays.octant);
     constexpr std::uint32_t kAllChildren = std::uint32_t((std::uint64_t(1) << Width) - 1);
     // The largest closest-hit distance among the live lanes, an upper bound refreshed after each
     // leaf (hits only shorten it), for the frustum's far end.
@@ -201,7 +226,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
             for (; candidates != 0; candidates &= candidates - 1) {
                 const std::size_t k = std::countr_zero(candidates);
                 if (node.child[k].is_empty()) break;  // the used slots come first
-                const auto [enters, t] = bvh::lanes_entering<Slabs>(node, k, rays, hits, lanes);
+                const auto [enters, t] = bvh::lanes_entering<Slabs>(node, k, rays, hits, lanes, shared_rows);
                 if (!xsimd::any(enters)) continue;
                 entered[entered_count] = {node.child[k], t};
                 // The order key: the frustum's bound where there is one (free), else the nearest lane.

@@ -43,6 +43,22 @@ struct TriangleHitT {
 };
 using TriangleHit = TriangleHitT<float>;
 
+/// Who keeps a zero-area triangle (collinear or repeated corners) from being hit, which rounding
+/// could otherwise let through: the test, lane by lane, for each lane that passed every other
+/// test (detail::drop_zero_area), or the caller, whose structure left such triangles out when it
+/// was built (has_area). Either way they are never hit, so the answers are the same bits.
+enum class ZeroAreaTriangles { dropped_by_test, left_out_by_caller };
+
+/// Twice the triangle's area vector in double: zero exactly when the corners are collinear, since
+/// differences of floats and their products are exact in double (for corners whose exponents
+/// differ by less than 29).
+inline Vec3d area_vector_in_double(const Vec3d& a, const Vec3d& b, const Vec3d& c) { return cross(b - a, c - a); }
+
+/// Whether the triangle tests can hit `tri` at all: false for a zero-area triangle.
+inline bool has_area(const Triangle& tri) {
+    return !(area_vector_in_double(Vec3d(tri.a), Vec3d(tri.b), Vec3d(tri.c)) == Vec3d(0.0));
+}
+
 /// Constructed once per ray (or packet); intersect() returns the lanes that hit and writes their
 /// t, u, v to `out`. Lanes that miss leave unspecified values in `out` (a scalar miss leaves it
 /// untouched).
@@ -100,11 +116,11 @@ typename Lanes<T>::Mask without_lanes(typename Lanes<T>::Mask mask, std::uint32_
 
 /// The hit lanes whose triangle has area. A zero-area triangle (collinear or repeated corners)
 /// has det = 0 in exact arithmetic, but its corners, translated and sheared in float, need not
-/// stay collinear, so det may round away from zero and a ray passing its segment would hit it.
-/// Differences of floats and their products are exact in double (for corners whose exponents
-/// differ by less than 29), so the double cross product is zero exactly for collinear corners.
-/// Only lanes that passed every other test get here, so it is rare; done lane by lane, and kept
-/// out of line so that it does not bloat the triangle loops it is called from.
+/// stay collinear, so det may round away from zero and a ray passing its segment would hit it;
+/// area_vector_in_double tells exactly. Only lanes that passed every other test get here; done
+/// lane by lane, and kept out of line so that it does not bloat the triangle loops it is called
+/// from. A packet's lanes that all hit one triangle repeat the same test: a structure that leaves
+/// zero-area triangles out at build time skips it (ZeroAreaTriangles).
 template <class T>
 [[gnu::noinline]] typename Lanes<T>::Mask drop_zero_area(typename Lanes<T>::Mask hit, const Vec3T<T>& a, const Vec3T<T>& b,
                                        const Vec3T<T>& c) {
@@ -112,7 +128,7 @@ template <class T>
     std::uint32_t zero_area = 0;
     for (std::uint32_t bits = Lanes<T>::bits(hit); bits != 0; bits &= bits - 1) {
         const int i = std::countr_zero(bits);
-        if (cross(b_[i] - a_[i], c_[i] - a_[i]) == Vec3d(0.0)) zero_area |= 1u << i;
+        if (area_vector_in_double(a_[i], b_[i], c_[i]) == Vec3d(0.0)) zero_area |= 1u << i;
     }
     return without_lanes<T>(hit, zero_area);
 }
@@ -164,6 +180,7 @@ public:
         return intersect(Vec3T<T>(tri.a), Vec3T<T>(tri.b), Vec3T<T>(tri.c), t_limit, out);
     }
 
+    template <ZeroAreaTriangles ZeroArea = ZeroAreaTriangles::dropped_by_test>
     Mask intersect(const Vec3T<T>& tri_a, const Vec3T<T>& tri_b, const Vec3T<T>& tri_c, T t_limit,
                    TriangleHitT<T>& out) const {
         const T zero(0.0f);
@@ -198,8 +215,10 @@ public:
             hit = detail::drop_crossings_before_tmin(hit, near_origin, tri_a, tri_b, tri_c, origin_, dir_, tmin_);
             if (L::none(hit)) return hit;
         }
-        hit = detail::drop_zero_area(hit, tri_a, tri_b, tri_c);
-        if (L::none(hit)) return hit;
+        if constexpr (ZeroArea == ZeroAreaTriangles::dropped_by_test) {
+            hit = detail::drop_zero_area(hit, tri_a, tri_b, tri_c);
+            if (L::none(hit)) return hit;
+        }
         out = {t, v * inv_det, w * inv_det};
         return hit;
     }
@@ -253,6 +272,7 @@ public:
         return intersect(Vec3T<T>(tri.a), Vec3T<T>(tri.b), Vec3T<T>(tri.c), t_limit, out);
     }
 
+    template <ZeroAreaTriangles ZeroArea = ZeroAreaTriangles::dropped_by_test>
     Mask intersect(const Vec3T<T>& a, const Vec3T<T>& b, const Vec3T<T>& c, T t_limit, TriangleHitT<T>& out) const {
         const T zero(0.0f), one(1.0f);
         const Vec3T<T> e1 = b - a, e2 = c - a;
@@ -272,8 +292,10 @@ public:
         const T t = dot(e2, q) * inv_det;
         hit = hit & (t >= tmin_) & (t < t_limit);
         if (L::none(hit)) return hit;
-        hit = detail::drop_zero_area(hit, a, b, c);
-        if (L::none(hit)) return hit;
+        if constexpr (ZeroArea == ZeroAreaTriangles::dropped_by_test) {
+            hit = detail::drop_zero_area(hit, a, b, c);
+            if (L::none(hit)) return hit;
+        }
         out = {t, u, v};
         return hit;
     }

@@ -1,5 +1,5 @@
 // The wide BVH (accel/bvh/wide_bvh.h) at each width and block size it ships: its layout holds
-// every triangle once with its exact corners inside its boxes; single rays find the binary BVH's
+// every triangle with area once (and no zero-area one) with its exact corners inside its boxes; single rays find the binary BVH's
 // closest t bit for bit and the double-precision reference's hits; any hit agrees with closest
 // hit; and packets of every width give each lane the wide single ray's hit bit for bit (the tie
 // rule makes the answer independent of the visiting order, so no tie is allowed).
@@ -31,7 +31,9 @@ void check_layout(const WideBvh<Width, BlockSize>& wide, const Mesh& mesh) {
     const auto blocks = wide.blocks();
     const std::size_t n = mesh.triangle_count();
     REQUIRE(nodes.empty() == (n == 0));
-    std::vector<int> seen(n, 0), node_seen(nodes.size(), 0);
+    std::vector<int> seen(n, 0), node_seen(nodes.size(), 0), with_area(n);
+    for (std::size_t i = 0; i < n; ++i) with_area[i] = has_area(triangle_of(mesh, i));
+    const auto stored = std::size_t(std::count(with_area.begin(), with_area.end(), 1));
     std::size_t wrong_corners = 0, outside_box = 0, unpacked_slots = 0, padding_differs = 0, leaves = 0, max_depth = 0,
                 children = 0;
     auto walk = [&](auto&& self, std::uint32_t index, std::size_t depth) -> void {
@@ -83,18 +85,18 @@ void check_layout(const WideBvh<Width, BlockSize>& wide, const Mesh& mesh) {
     CHECK(outside_box == 0);
     CHECK(unpacked_slots == 0);
     CHECK(padding_differs == 0);
-    CHECK(std::count(seen.begin(), seen.end(), 1) == std::ptrdiff_t(n));
+    CHECK(seen == with_area);  // each triangle with area once, none without
     CHECK(std::count(node_seen.begin(), node_seen.end(), 1) == std::ptrdiff_t(nodes.size()));
     const AccelStats& stats = wide.stats();
     CHECK(stats.triangles == n);
     CHECK(stats.leaves == leaves);
     CHECK(stats.nodes == nodes.size() + leaves);
     CHECK(stats.max_depth == max_depth);
-    CHECK(stats.references == n);
+    CHECK(stats.references == stored);
     CHECK(stats.bytes == nodes.size() * sizeof(typename Tree::Node) + blocks.size() * sizeof(typename Tree::Block));
-    if (!nodes.empty()) {
-        CHECK(stats.mean_children == doctest::Approx(double(children) / double(nodes.size())));
-        CHECK(stats.block_fill == doctest::Approx(double(n) / double(blocks.size() * BlockSize)));
+    if (!nodes.empty()) CHECK(stats.mean_children == doctest::Approx(double(children) / double(nodes.size())));
+    if (!blocks.empty()) {
+        CHECK(stats.block_fill == doctest::Approx(double(stored) / double(blocks.size() * BlockSize)));
         CHECK(stats.block_fill > 0.0);
         CHECK(stats.block_fill <= 1.0);
     }
@@ -178,6 +180,38 @@ TEST_CASE("the wide layout holds every triangle once, inside its boxes, for ever
     for_each_wide_tree(builtin_scene("teapot").mesh, {}, [&](const auto& wide) {
         check_layout(wide, builtin_scene("teapot").mesh);
         CHECK(wide.stats().mean_children > 2.5);  // wide in fact, not a binary tree in disguise
+    });
+}
+
+TEST_CASE("zero-area triangles are left out of the blocks and never hit, as the binary tree never hits them") {
+    // Points and segments among real triangles, and a mesh of nothing else (leaves without blocks).
+    Mesh mixed = random_soup(300, 41, 0.15f), degenerate;
+    for (int i = 0; i < 200; ++i) {
+        // Binary fractions, so that the segments' corners are collinear in float too.
+        const float x = float(i % 20) * 0.0625f, y = float(i / 20) * 0.125f;
+        const Vec3f p{x, y, 0.5f}, q{x + 0.125f, y + 0.0625f, 0.5f}, r{x + 0.25f, y + 0.125f, 0.5f};
+        for (Mesh* mesh : {&mixed, &degenerate}) {
+            const std::uint32_t point = mesh->add_vertex(p);
+            mesh->add_triangle(point, point, point);
+            mesh->add_triangle(mesh->add_vertex(p), mesh->add_vertex(q), mesh->add_vertex(r));  // a segment
+        }
+    }
+    const std::vector<Ray> rays = random_rays(mixed.bounds(), 400, 42);
+    const Bvh binary = Bvh::build(mixed);
+    for_each_wide_tree(mixed, {}, [&](const auto& wide) {
+        check_layout(wide, mixed);
+        CHECK(wide.stats().references == 300);
+        check_single_rays(wide, binary, mixed, rays);
+        check_packets(wide, rays);
+    });
+    for_each_wide_tree(degenerate, {}, [&](const auto& wide) {
+        check_layout(wide, degenerate);
+        CHECK(wide.blocks().empty());
+        CHECK_FALSE(wide.nodes().empty());
+        for (const Ray& ray : random_rays(degenerate.bounds(), 200, 43)) {
+            CHECK_FALSE(wide.intersect(ray).is_hit());
+            CHECK_FALSE(wide.occluded(ray));
+        }
     });
 }
 
