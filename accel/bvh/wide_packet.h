@@ -110,18 +110,6 @@ typename RayPacket<Arch>::Mask test_triangle_lanes(const Intersector& intersecto
     }
 }
 
-/// The children to visit, nearest (smallest key) last: indices into `keys`, farthest first.
-template <std::size_t Width>
-std::array<std::uint8_t, Width> farthest_first(const std::array<float, Width>& keys, std::size_t count) {
-    std::array<std::uint8_t, Width> order{};
-    for (std::size_t i = 0; i < count; ++i) {
-        std::size_t j = i;
-        for (; j > 0 && keys[order[j - 1]] < keys[i]; --j) order[j] = order[j - 1];
-        order[j] = std::uint8_t(i);
-    }
-    return order;
-}
-
 }  // namespace bvh
 
 /// The threshold when the caller leaves it to the structure: a last single lane goes alone.
@@ -202,11 +190,10 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
 
     // Lanes that may still find a hit in a node entered at t_entry.
     const auto needing = [&](const Float& t_entry) { return live & !blocked & (t_entry <= bvh::prune_limit(hits.t)); };
-    struct StackEntry {
-        bvh::ChildRef ref;
-        Float t_entry;  // +inf in lanes that do not enter
-    };
-    StackEntry stack[kStackSize];
+    // The stack by field: a batch of entry distances (+inf in lanes that do not enter) and a child
+    // per entry. As one struct the 64-byte-aligned batch padded each entry to 128 bytes.
+    Float stack_t_entry[kStackSize];
+    bvh::ChildRef stack_ref[kStackSize];
     std::size_t stack_size = 0;
     bvh::ChildRef current = bvh::ChildRef::node(0);
     Mask lanes = live;
@@ -217,30 +204,31 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
         } else if (!current.is_leaf()) {
             const Node& node = nodes_[current.node_index()];
             counters.visit_node();
-            std::array<StackEntry, Width> entered;
-            std::array<float, Width> nearest;
-            std::size_t entered_count = 0;
             std::uint32_t candidates = kAllChildren;
             std::array<float, Width> entry_lo;
             if (group) candidates = frustum.may_enter(node, bvh::prune_limit(group_t_max), entry_lo);
+            // The entered children go straight onto the stack, kept sorted as they come by their
+            // order key (the frustum's bound where there is one, free; else the nearest lane's
+            // entry), farthest first: the nearest ends on top and is popped next.
+            const std::size_t base = stack_size;
+            std::array<float, Width> keys;  // of stack entries base, base + 1, ...
             for (; candidates != 0; candidates &= candidates - 1) {
                 const std::size_t k = std::countr_zero(candidates);
                 if (node.child[k].is_empty()) break;  // the used slots come first
                 const auto [enters, t] = bvh::lanes_entering<Slabs>(node, k, rays, hits, lanes, shared_rows);
                 if (!xsimd::any(enters)) continue;
-                entered[entered_count] = {node.child[k], t};
-                // The order key: the frustum's bound where there is one (free), else the nearest lane.
-                nearest[entered_count++] = group ? entry_lo[k] : simd::horizontal_min(t);
+                const float key = group ? entry_lo[k] : simd::horizontal_min(t);
+                std::size_t i = stack_size++;
+                for (; i > base && keys[i - 1 - base] < key; --i) {
+                    keys[i - base] = keys[i - 1 - base];
+                    stack_t_entry[i] = stack_t_entry[i - 1];
+                    stack_ref[i] = stack_ref[i - 1];
+                }
+                keys[i - base] = key;
+                stack_t_entry[i] = t;
+                stack_ref[i] = node.child[k];
             }
-            if (entered_count != 0) {
-                // The nearest child (by its nearest lane) next; the others stacked farthest first.
-                const auto order = bvh::farthest_first(nearest, entered_count);
-                for (std::size_t i = 0; i + 1 < entered_count; ++i) stack[stack_size++] = entered[order[i]];
-                assert(stack_size <= kStackSize);
-                current = entered[order[entered_count - 1]].ref;
-                lanes = needing(entered[order[entered_count - 1]].t_entry);
-                continue;
-            }
+            assert(stack_size <= kStackSize);
         } else {
             std::uint32_t remaining = current.triangle_count();
             for (std::uint32_t b = current.first_block(); remaining != 0; ++b) {
@@ -256,10 +244,10 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
         }
         for (;;) {  // pop the next node some lane still needs
             if (stack_size == 0) return blocked;
-            const StackEntry& entry = stack[--stack_size];
-            lanes = needing(entry.t_entry);
+            --stack_size;
+            lanes = needing(stack_t_entry[stack_size]);
             if (xsimd::any(lanes)) {
-                current = entry.ref;
+                current = stack_ref[stack_size];
                 break;
             }
         }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -70,6 +71,22 @@ TEST_CASE("horizontal_min finds the smallest lane and skips NaN lanes") {
             CHECK(simd::horizontal_min(Float::load_unaligned(lanes.data())) == -2.0f);
         }
         CHECK(simd::horizontal_min(Float(kNaN)) == kInfinity);
+        // Random lanes with NaN and infinities mixed in, against the smallest non-NaN lane.
+        std::mt19937 rng(5);
+        std::uniform_real_distribution<float> value(-1e6f, 1e6f);
+        std::uniform_int_distribution<int> kind(0, 9);
+        std::size_t wrong = 0;
+        for (int trial = 0; trial < 500; ++trial) {
+            std::array<float, width> lanes;
+            float expected = kInfinity;
+            for (float& lane : lanes) {
+                const int k = kind(rng);
+                lane = k == 0 ? kNaN : k == 1 ? kInfinity : k == 2 ? -kInfinity : value(rng);
+                if (lane < expected) expected = lane;
+            }
+            wrong += simd::horizontal_min(Float::load_unaligned(lanes.data())) != expected;
+        }
+        CHECK(wrong == 0);
     });
 }
 
