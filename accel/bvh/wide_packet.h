@@ -227,6 +227,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
                 keys[i - base] = key;
                 stack_t_entry[i] = t;
                 stack_ref[i] = node.child[k];
+                prefetch(node.child[k]);
             }
             assert(stack_size <= kStackSize);
         } else {
