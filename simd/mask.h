@@ -73,23 +73,24 @@ template <class Arch>
 float horizontal_min(const xsimd::batch<float, Arch>& x) {
     using Float = xsimd::batch<float, Arch>;
     const Float finite_or_inf = xsimd::select(x == x, x, Float(std::numeric_limits<float>::infinity()));
+    // Types and masks spelled through Arch: a baseline file's headers do not declare __m512.
+    using Register = typename Float::register_type;
+    const Register all = finite_or_inf;
     __m128 quarter;
     if constexpr (kHasMaskRegisters<Arch>) {
-        // Zero-masking forms throughout: gcc 12's plain AVX-512 shuffles, min and 512-to-256 cast
+        // Zero-masking forms throughout: gcc 12's plain AVX-512 shuffles, min and 512-to-128 cast
         // start from an undefined register and trip -Wmaybe-uninitialized once inlined.
-        constexpr __mmask16 all_lanes = 0xFFFF;
-        const __m512 all = finite_or_inf;
-        const __m512 halves = _mm512_maskz_min_ps(all_lanes, all,
-                                                  _mm512_maskz_shuffle_f32x4(all_lanes, all, all, _MM_SHUFFLE(1, 0, 3, 2)));
-        const __m512 quarters = _mm512_maskz_min_ps(
+        const auto all_lanes = xsimd::batch_bool<float, Arch>(true).data;
+        const Register halves = _mm512_maskz_min_ps(all_lanes, all,
+                                                    _mm512_maskz_shuffle_f32x4(all_lanes, all, all, _MM_SHUFFLE(1, 0, 3, 2)));
+        const Register quarters = _mm512_maskz_min_ps(
             all_lanes, halves, _mm512_maskz_shuffle_f32x4(all_lanes, halves, halves, _MM_SHUFFLE(2, 3, 0, 1)));
-        quarter = _mm512_maskz_extractf32x4_ps(__mmask8(0xF), quarters, 0);
+        quarter = _mm512_maskz_extractf32x4_ps(static_cast<unsigned char>(0xF), quarters, 0);
     } else if constexpr (kIs256Bit<Arch>) {
-        const __m256 all = finite_or_inf;
         quarter = _mm_min_ps(_mm256_castps256_ps128(all), _mm256_extractf128_ps(all, 1));
     } else {
         static_assert(kIs128Bit<Arch>, "no mask helpers for this architecture");
-        quarter = finite_or_inf;
+        quarter = all;
     }
     const __m128 pair = _mm_min_ps(quarter, _mm_movehl_ps(quarter, quarter));
     return _mm_cvtss_f32(_mm_min_ss(pair, _mm_shuffle_ps(pair, pair, 1)));

@@ -61,8 +61,8 @@ public:
             origin_[axis] = Float(ray.origin[axis]);
             inv_dir_[axis] = Float(inv_dir);
             const bool negative = inv_dir < 0.0f;
-            near_row_[axis] = negative ? upper_row(axis) : lower_row(axis);
-            far_row_[axis] = negative ? lower_row(axis) : upper_row(axis);
+            near_row_[axis] = near_row(axis, negative);
+            far_row_[axis] = far_row(axis, negative);
         }
     }
 

@@ -73,8 +73,8 @@ public:
             far_origin_[axis] = Float(group.negative[axis] ? group.origin_hi[axis] : group.origin_lo[axis]);
             inv_lo_[axis] = Float(group.inv_lo[axis]);
             inv_hi_[axis] = Float(group.inv_hi[axis]);
-            near_row_[axis] = group.negative[axis] ? upper_row(axis) : lower_row(axis);
-            far_row_[axis] = group.negative[axis] ? lower_row(axis) : upper_row(axis);
+            near_row_[axis] = near_row(axis, group.negative[axis]);
+            far_row_[axis] = far_row(axis, group.negative[axis]);
         }
     }
 

@@ -48,6 +48,9 @@ static_assert(sizeof(ChildRef) == 4);
 /// Which bounds[] row holds an axis's lower or upper planes.
 constexpr int lower_row(int axis) { return 2 * axis; }
 constexpr int upper_row(int axis) { return 2 * axis + 1; }
+/// The rows of the planes a ray meets first and last along an axis, by its direction's sign there.
+constexpr int near_row(int axis, bool negative) { return negative ? upper_row(axis) : lower_row(axis); }
+constexpr int far_row(int axis, bool negative) { return negative ? lower_row(axis) : upper_row(axis); }
 
 /// Width children: bounds[lower_row(a)][i] and bounds[upper_row(a)][i] are child i's box along axis
 /// a (lower_x, upper_x, lower_y, ... of Embree's node). An unused slot holds the empty box

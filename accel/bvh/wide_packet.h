@@ -35,8 +35,8 @@ struct PlaneRows {
         PlaneRows rows;
         for (int axis = 0; axis < 3; ++axis) {
             const bool negative = (octant >> axis & 1) != 0;
-            rows.near[axis] = negative ? upper_row(axis) : lower_row(axis);
-            rows.far[axis] = negative ? lower_row(axis) : upper_row(axis);
+            rows.near[axis] = near_row(axis, negative);
+            rows.far[axis] = far_row(axis, negative);
         }
         return rows;
     }
