@@ -8,22 +8,12 @@
 
 namespace trident {
 
-namespace {
-
-/// In double: a float area overflows for boxes wider than about 1e19.
-double surface_area(const Aabb& box) {
-    const double x = double(box.hi.x) - box.lo.x, y = double(box.hi.y) - box.lo.y, z = double(box.hi.z) - box.lo.z;
-    return 2.0 * (x * y + y * z + z * x);
-}
-
-}  // namespace
-
 double bvh_sah_cost(std::span<const BvhNode> nodes, float traversal_cost, float intersection_cost) {
     if (nodes.empty()) return 0.0;
-    const double root_area = surface_area(nodes[0].bounds);
+    const double root_area = surface_area_in_double(nodes[0].bounds);
     double cost = 0.0;
     for (const BvhNode& node : nodes) {
-        const double weight = root_area > 0.0 ? surface_area(node.bounds) / root_area : 1.0;
+        const double weight = root_area > 0.0 ? surface_area_in_double(node.bounds) / root_area : 1.0;
         cost += weight * (node.is_leaf() ? double(intersection_cost) * node.triangle_count() : double(traversal_cost));
     }
     return cost;

@@ -4,8 +4,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -15,19 +17,6 @@
 namespace trident::bvh {
 
 namespace {
-
-/// In double: a float area overflows for boxes wider than about 1e19.
-double area_of(const Aabb& box) {
-    const double x = double(box.hi.x) - box.lo.x, y = double(box.hi.y) - box.lo.y, z = double(box.hi.z) - box.lo.z;
-    return 2.0 * (x * y + y * z + z * x);
-}
-
-/// Per binary node: the leaf-order triangles it spans, those of them with area (what its blocks
-/// hold), and whether it becomes one wide leaf.
-struct BinaryFacts {
-    std::vector<std::uint32_t> spanned, triangles;
-    std::vector<char> is_leaf;
-};
 
 /// Per leaf-order triangle: whether it has area, in parallel.
 std::vector<char> triangles_with_area(std::span<const Triangle> triangles) {
@@ -41,39 +30,94 @@ std::vector<char> triangles_with_area(std::span<const Triangle> triangles) {
 /// Costs relative to one wide node step (all Width boxes against a ray) and to one block test.
 constexpr double kNodeStepCost = 1.0, kBlockTestCost = 1.0;
 
-/// Bottom-up (children follow their parent in depth-first order): each subtree's cheapest form,
-/// as one leaf or as interior levels. A binary level inside a wide node costs the node step shared
-/// among the Width - 1 binary splits a full node holds.
+/// What the dynamic programme decided for a binary node given `slots` child slots of a wide node
+/// (Ylitie et al.'s C(n, i)): with one slot, whether the subtree becomes one leaf or one wide node;
+/// with more, how many of them go to the left child (the rest to the right), or kFewerSlots when
+/// slots - 1 do as well.
+constexpr std::uint8_t kFewerSlots = 0, kAsLeaf = 0xfe, kAsNode = 0xff;
+
+/// Per binary node: the leaf-order triangles it spans, those of them with area (what its blocks
+/// hold), and the dynamic programme's decisions.
+template <std::size_t Width>
+struct CollapsePlan {
+    std::vector<std::uint32_t> spanned, triangles;
+    /// decision[n][slots - 1]; split[n]: the left child's slots when n is a wide node of its own.
+    std::vector<std::array<std::uint8_t, Width>> decision;
+    std::vector<std::uint8_t> split;
+
+    bool is_leaf(std::uint32_t n) const { return decision[n][0] == kAsLeaf; }
+
+    /// The binary nodes that fill `slots` of a wide node from the subtree n, appended to `out`.
+    void collect(std::span<const BvhNode> nodes, std::uint32_t n, std::size_t slots, std::uint32_t* out,
+                 std::uint32_t& count) const {
+        while (slots > 1 && decision[n][slots - 1] == kFewerSlots) --slots;
+        if (slots == 1) {
+            out[count++] = n;
+            return;
+        }
+        const std::size_t left = decision[n][slots - 1];
+        collect(nodes, n + 1, left, out, count);
+        collect(nodes, nodes[n].right_child(), slots - left, out, count);
+    }
+};
+
+/// Bottom-up (children follow their parent in depth-first order), the SAH of every subtree given
+/// 1 to Width slots (Ylitie, Karras and Laine 2017, section 3.1): a subtree takes one slot as a
+/// leaf of blocks or as a wide node of its own (a node step, then its Width slots shared between
+/// its children), or more slots shared between its children. Ties go to the leaf, then to fewer
+/// slots, then to the smaller left share, so the tree does not depend on rounding order.
 template <std::size_t Width, std::size_t BlockSize>
-BinaryFacts decide_leaves(std::span<const BvhNode> nodes, std::span<const char> with_area, std::uint32_t leaf_limit) {
+CollapsePlan<Width> plan_collapse(std::span<const BvhNode> nodes, std::span<const char> with_area,
+                                  std::uint32_t leaf_limit) {
     const std::uint32_t largest_leaf =
         std::min<std::uint32_t>({2 * BlockSize, leaf_limit, ChildRef::kMaxLeafTriangles});
-    constexpr double kLevelCost = kNodeStepCost / double(Width - 1);
-    BinaryFacts facts{std::vector<std::uint32_t>(nodes.size()), std::vector<std::uint32_t>(nodes.size()),
-                      std::vector<char>(nodes.size())};
-    std::vector<double> cost(nodes.size());
+    CollapsePlan<Width> plan{std::vector<std::uint32_t>(nodes.size()), std::vector<std::uint32_t>(nodes.size()),
+                             std::vector<std::array<std::uint8_t, Width>>(nodes.size()),
+                             std::vector<std::uint8_t>(nodes.size())};
+    std::vector<std::array<double, Width>> cost(nodes.size());  // cost[n][slots - 1]
+    const auto blocks_of = [](std::uint32_t triangles) { return double((triangles + BlockSize - 1) / BlockSize); };
     for (std::size_t i = nodes.size(); i-- > 0;) {
         const BvhNode& node = nodes[i];
-        const double area = area_of(node.bounds);
+        const double area = surface_area_in_double(node.bounds);
         if (node.is_leaf()) {
-            facts.spanned[i] = node.triangle_count();
+            plan.spanned[i] = node.triangle_count();
             const auto first = with_area.begin() + node.first_triangle();
-            facts.triangles[i] = std::uint32_t(std::count(first, first + node.triangle_count(), char(1)));
-            if (facts.triangles[i] > ChildRef::kMaxLeafTriangles)
-                throw std::length_error("wide BVH: a leaf of " + std::to_string(facts.triangles[i]) + " triangles");
-            facts.is_leaf[i] = 1;
-            cost[i] = area * kBlockTestCost * double((facts.triangles[i] + BlockSize - 1) / BlockSize);
+            plan.triangles[i] = std::uint32_t(std::count(first, first + node.triangle_count(), char(1)));
+            if (plan.triangles[i] > ChildRef::kMaxLeafTriangles)
+                throw std::length_error("wide BVH: a leaf of " + std::to_string(plan.triangles[i]) + " triangles");
+            plan.decision[i].fill(kFewerSlots);
+            plan.decision[i][0] = kAsLeaf;
+            cost[i].fill(area * kBlockTestCost * blocks_of(plan.triangles[i]));
             continue;
         }
         const std::size_t left = i + 1, right = node.right_child();
-        facts.spanned[i] = facts.spanned[left] + facts.spanned[right];
-        facts.triangles[i] = facts.triangles[left] + facts.triangles[right];
-        const double descend = area * kLevelCost + cost[left] + cost[right];
-        const double as_leaf = area * kBlockTestCost * double((facts.triangles[i] + BlockSize - 1) / BlockSize);
-        facts.is_leaf[i] = facts.triangles[i] <= largest_leaf && as_leaf <= descend;
-        cost[i] = facts.is_leaf[i] ? as_leaf : descend;
+        plan.spanned[i] = plan.spanned[left] + plan.spanned[right];
+        plan.triangles[i] = plan.triangles[left] + plan.triangles[right];
+        // shared[s - 1]: the children's cheapest with s slots between them, and the left's share.
+        std::array<double, Width> shared;
+        std::array<std::uint8_t, Width> left_share{};
+        shared[0] = std::numeric_limits<double>::infinity();
+        for (std::size_t s = 2; s <= Width; ++s) {
+            shared[s - 1] = std::numeric_limits<double>::infinity();
+            for (std::size_t k = 1; k < s; ++k) {
+                const double c = cost[left][k - 1] + cost[right][s - k - 1];
+                if (c < shared[s - 1]) shared[s - 1] = c, left_share[s - 1] = std::uint8_t(k);
+            }
+        }
+        const double as_node = area * kNodeStepCost + shared[Width - 1];
+        const double as_leaf = plan.triangles[i] <= largest_leaf
+                                   ? area * kBlockTestCost * blocks_of(plan.triangles[i])
+                                   : std::numeric_limits<double>::infinity();
+        plan.split[i] = left_share[Width - 1];
+        plan.decision[i][0] = as_leaf <= as_node ? kAsLeaf : kAsNode;
+        cost[i][0] = std::min(as_leaf, as_node);
+        for (std::size_t s = 2; s <= Width; ++s) {
+            const bool fewer = cost[i][s - 2] <= shared[s - 1];
+            plan.decision[i][s - 1] = fewer ? kFewerSlots : left_share[s - 1];
+            cost[i][s - 1] = fewer ? cost[i][s - 2] : shared[s - 1];
+        }
     }
-    return facts;
+    return plan;
 }
 
 /// A wide node to fill: its index and the binary nodes that become its children.
@@ -91,24 +135,14 @@ struct PlannedLeaf {
     std::uint32_t first_triangle, spanned, triangle_count, first_block;
 };
 
-/// Opens, among the node's children that are not leaves, the one of largest surface area into its
-/// two children, until the node holds Width or only leaves.
+/// The wide node made of binary node b: its Width slots shared between b's children as planned.
 template <std::size_t Width>
-void open_largest_children(PlannedNode<Width>& node, const BinaryFacts& facts, std::span<const BvhNode> nodes) {
-    while (node.child_count < Width) {
-        int widest = -1;
-        double widest_area = -1.0;
-        for (std::uint32_t k = 0; k < node.child_count; ++k) {
-            const std::uint32_t b = node.children[k];
-            if (facts.is_leaf[b]) continue;
-            const double area = area_of(nodes[b].bounds);
-            if (area > widest_area) widest = int(k), widest_area = area;
-        }
-        if (widest < 0) return;
-        const std::uint32_t opened = node.children[widest];
-        node.children[widest] = opened + 1;
-        node.children[node.child_count++] = nodes[opened].right_child();
-    }
+PlannedNode<Width> plan_node(const CollapsePlan<Width>& plan, std::span<const BvhNode> nodes, std::uint32_t b,
+                             std::uint32_t index, std::uint32_t depth) {
+    PlannedNode<Width> node{index, depth, {}, 0};
+    plan.collect(nodes, b + 1, plan.split[b], node.children, node.child_count);
+    plan.collect(nodes, nodes[b].right_child(), Width - plan.split[b], node.children, node.child_count);
+    return node;
 }
 
 /// The first leaf-order triangle of a binary subtree: its leftmost leaf's.
@@ -126,10 +160,10 @@ WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, st
     WideArrays<Width, BlockSize> out;
     if (nodes.empty()) return out;
     const std::vector<char> with_area = triangles_with_area(triangles);
-    const BinaryFacts facts = decide_leaves<Width, BlockSize>(nodes, with_area, leaf_limit);
-    const double root_area = area_of(nodes[0].bounds);
+    const CollapsePlan<Width> plan = plan_collapse<Width, BlockSize>(nodes, with_area, leaf_limit);
+    const double root_area = surface_area_in_double(nodes[0].bounds);
     const auto weight = [&](std::uint32_t binary) {
-        return root_area > 0.0 ? area_of(nodes[binary].bounds) / root_area : 1.0;
+        return root_area > 0.0 ? surface_area_in_double(nodes[binary].bounds) / root_area : 1.0;
     };
 
     // Plan serially (a few operations a wide node), children of a node numbered side by side.
@@ -137,30 +171,25 @@ WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, st
     std::vector<PlannedLeaf> leaves;
     std::vector<ChildRef> refs(Width, ChildRef::empty());  // per planned node, Width slots
     std::uint32_t block_count = 0;
-    planned.push_back({0, 0, {}, 0});
     // The root: a binary leaf (or a root that is one wide leaf) becomes the single child of node 0.
-    if (facts.is_leaf[0]) {
-        planned[0].children[0] = 0;
-        planned[0].child_count = 1;
+    if (plan.is_leaf(0)) {
+        planned.push_back({0, 0, {0}, 1});
     } else {
-        planned[0].children[0] = 1;
-        planned[0].children[1] = nodes[0].right_child();
-        planned[0].child_count = 2;
+        planned.push_back(plan_node(plan, nodes, 0, 0, 0));
     }
     out.sah_cost += weight(0) * kNodeStepCost;
     for (std::size_t next = 0; next < planned.size(); ++next) {
-        open_largest_children(planned[next], facts, nodes);
         const PlannedNode<Width> node = planned[next];  // a copy: planning its children grows `planned`
         out.child_slots_used += node.child_count;
         for (std::uint32_t k = 0; k < node.child_count; ++k) {
             const std::uint32_t b = node.children[k];
-            if (facts.is_leaf[b]) {
-                const std::uint32_t count = facts.triangles[b];
+            if (plan.is_leaf(b)) {
+                const std::uint32_t count = plan.triangles[b];
                 if (block_count > ChildRef::kMaxFirstBlock)
                     throw std::length_error("wide BVH: more than " + std::to_string(ChildRef::kMaxFirstBlock) +
                                             " triangle blocks");
                 refs[next * Width + k] = ChildRef::leaf(block_count, count);
-                leaves.push_back({first_triangle_of(nodes, b), facts.spanned[b], count, block_count});
+                leaves.push_back({first_triangle_of(nodes, b), plan.spanned[b], count, block_count});
                 out.references += count;
                 const std::uint32_t blocks = (count + BlockSize - 1) / BlockSize;
                 block_count += blocks;
@@ -170,9 +199,7 @@ WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, st
             } else {
                 const auto index = std::uint32_t(planned.size());
                 refs[next * Width + k] = ChildRef::node(index);
-                PlannedNode<Width> child{index, node.depth + 1, {}, 2};
-                child.children[0] = b + 1;
-                child.children[1] = nodes[b].right_child();
+                const PlannedNode<Width> child = plan_node(plan, nodes, b, index, node.depth + 1);
                 out.sah_cost += weight(b) * kNodeStepCost;
                 out.max_depth = std::max<std::size_t>(out.max_depth, child.depth);
                 planned.push_back(child);

@@ -2,13 +2,15 @@
 // Collapsing the binary SAH tree (bvh.h) into a wide one (wide_node.h): which binary subtrees
 // become leaves of triangle blocks and which binary nodes are opened into a wide node's children.
 //
-// Leaves are decided by cost, bottom-up over the binary tree (Ylitie, Karras and Laine 2017,
-// "Efficient incoherent ray traversal on GPUs through compressed wide BVHs", section 3, in a
-// simpler form): a subtree becomes one leaf when testing its blocks costs no more than descending
-// into it, where a block test costs the same as a wide node step and the binary levels a wide
-// node absorbs share that step's cost. Interior wide nodes are then filled top-down by opening,
-// among their children that are not leaves, the one of largest surface area, until Width are held
-// (Embree's and the 2026-11-25 prototype's rule; the SAH gains most where the rays are most likely).
+// Which binary subtrees become leaves and which binary nodes a wide node's children are is decided
+// by the dynamic programme of Ylitie, Karras and Laine 2017 ("Efficient incoherent ray traversal
+// on GPUs through compressed wide BVHs", section 3.1), bottom-up over the binary tree: the SAH of
+// every subtree given 1 to Width child slots, where a subtree takes one slot as a leaf (a block
+// test per block, each weighed by the leaf's area) or as a wide node of its own (a node step,
+// then its Width slots shared between its binary children), or shares more slots between its
+// children. Top-down, each wide node then takes the children that the root's cheapest form names.
+// Against opening the largest child until Width are held, it fills nodes with 7 children on
+// average instead of 3.8 (bench/experiments/bvh-traversal.md).
 //
 // Blocks hold only triangles with area (has_area): no triangle test hits the others, so leaving
 // them out changes no answer, and the tests of the wide tree skip their own lane-by-lane check

@@ -34,4 +34,12 @@ struct Aabb {
 
 inline Aabb merge(Aabb a, const Aabb& b) { a.extend(b); return a; }
 
+/// Surface area in double, for costs summed over a tree: a float area overflows for boxes wider
+/// than about 1e19. 0 for an empty box.
+inline double surface_area_in_double(const Aabb& box) {
+    if (box.is_empty()) return 0.0;
+    const double x = double(box.hi.x) - box.lo.x, y = double(box.hi.y) - box.lo.y, z = double(box.hi.z) - box.lo.z;
+    return 2.0 * (x * y + y * z + z * x);
+}
+
 }  // namespace trident
