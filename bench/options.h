@@ -53,6 +53,7 @@ struct BenchOptions {
     std::vector<std::string> only;                  // --only: names to keep
     std::vector<AccelKind> structures;
     int bvh_width = BvhOptions{}.width;  // --bvh-width: the wide BVH's children per node (bvh rows)
+    BvhBuilder bvh_builder = BvhOptions{}.builder;  // --bvh-builder: bvh and bvh2 rows
     std::vector<Traversal> traversals;
     std::vector<TriangleTest> triangle_tests;  // --triangle-test (default watertight)
     std::vector<SlabTest> slab_tests;          // --slabs (default robust)

@@ -70,6 +70,7 @@ std::vector<StructureConfig> structure_configs(const BenchOptions& options) {
         for (double value : options.sweep->values) {
             StructureConfig config{options.sweep->structure, {}, value};
             config.options.bvh.width = options.bvh_width;
+            config.options.bvh.builder = options.bvh_builder;
             options.sweep->set(config.options, value);
             configs.push_back(config);
         }
@@ -78,6 +79,7 @@ std::vector<StructureConfig> structure_configs(const BenchOptions& options) {
     for (AccelKind kind : options.structures) {
         StructureConfig config{kind, {}, std::nullopt};
         config.options.bvh.width = options.bvh_width;
+        config.options.bvh.builder = options.bvh_builder;
         configs.push_back(config);
     }
     return configs;
@@ -139,6 +141,8 @@ private:
             report_.notes.push_back(fmt::format("bvh rows: the wide BVH, {} children a node, blocks of 4 triangles; "
                                                 "bvh2 rows: the binary BVH",
                                                 options_.bvh_width));
+        if (options_.bvh_builder != BvhOptions{}.builder)
+            report_.notes.push_back(fmt::format("bvh and bvh2 rows: built with {}", to_string(options_.bvh_builder)));
         for (TriangleTest test : options_.triangle_tests)
             report_.triangle_test += fmt::format("{}{}", report_.triangle_test.empty() ? "" : ", ", to_string(test));
         for (SlabTest slabs : options_.slab_tests)

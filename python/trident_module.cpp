@@ -248,13 +248,15 @@ Keyword<Options> choice(const char* name, Enum Options::*member, std::vector<std
 
 std::vector<Keyword<BvhOptions>> bvh_keywords() {
     return {
-        choice("builder", &BvhOptions::builder, {{"binned", BvhBuilder::binned_sah}, {"sweep", BvhBuilder::sweep_sah}}),
+        choice("builder", &BvhOptions::builder,
+               {{"binned", BvhBuilder::binned_sah}, {"sweep", BvhBuilder::sweep_sah}, {"spatial", BvhBuilder::spatial_sah}}),
         keyword("bin_count", &BvhOptions::bin_count),
         keyword("large_node_bin_count", &BvhOptions::large_node_bin_count),
         keyword("all_axes", &BvhOptions::all_axes),
         keyword("traversal_cost", &BvhOptions::traversal_cost),
         keyword("intersection_cost", &BvhOptions::intersection_cost),
         keyword("max_leaf_size", &BvhOptions::max_leaf_size),
+        keyword("spatial_split_budget", &BvhOptions::spatial_split_budget),
         keyword("width", &BvhOptions::width)};
 }
 

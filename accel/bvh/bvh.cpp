@@ -10,6 +10,7 @@
 #include "accel/bvh/binned_sah_splitter.h"
 #include "accel/bvh/build_primitives.h"
 #include "accel/bvh/bvh_stats.h"
+#include "accel/bvh/spatial_split_builder.h"
 #include "accel/bvh/sweep_sah_splitter.h"
 #include "accel/bvh/tree_builder.h"
 
@@ -38,19 +39,25 @@ Bvh Bvh::build(const Mesh& mesh, const BvhOptions& options) {
 
     Bvh result;
     result.options_ = options;
-    HugePageArray<bvh::PrimitiveRef> refs = bvh::make_primitive_refs(mesh);
-    const bvh::BuildRange root = bvh::whole_range(refs);
-    if (options.builder == BvhBuilder::binned_sah) {
-        bvh::BinnedSahSplitter splitter(refs, options);
-        result.nodes_ = bvh::TreeBuilder(splitter, options).build(root);
-        result.triangle_ids_ = gather_ids(refs.size(), [&](std::size_t i) { return refs[i].id; });
+    if (options.builder == BvhBuilder::spatial_sah) {
+        bvh::SpatialSplitTree tree = bvh::build_with_spatial_splits(mesh, options);
+        result.nodes_ = std::move(tree.nodes);
+        result.triangle_ids_ = std::move(tree.leaf_ids);
     } else {
-        bvh::SweepSahSplitter splitter(refs, options);
-        result.nodes_ = bvh::TreeBuilder(splitter, options).build(root);
-        result.triangle_ids_ = gather_ids(refs.size(), [&](std::size_t i) { return splitter.leaf_order()[i]; });
+        HugePageArray<bvh::PrimitiveRef> refs = bvh::make_primitive_refs(mesh);
+        const bvh::BuildRange root = bvh::whole_range(refs);
+        if (options.builder == BvhBuilder::binned_sah) {
+            bvh::BinnedSahSplitter splitter(refs, options);
+            result.nodes_ = bvh::TreeBuilder(splitter, options).build(root);
+            result.triangle_ids_ = gather_ids(refs.size(), [&](std::size_t i) { return refs[i].id; });
+        } else {
+            bvh::SweepSahSplitter splitter(refs, options);
+            result.nodes_ = bvh::TreeBuilder(splitter, options).build(root);
+            result.triangle_ids_ = gather_ids(refs.size(), [&](std::size_t i) { return splitter.leaf_order()[i]; });
+        }
     }
-    result.triangles_.resize(refs.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, refs.size(), kGatherGrain), [&](const auto& r) {
+    result.triangles_.resize(result.triangle_ids_.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, result.triangles_.size(), kGatherGrain), [&](const auto& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i)
             result.triangles_[i] = triangle_of(mesh, result.triangle_ids_[i]);
     });

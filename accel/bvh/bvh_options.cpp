@@ -6,7 +6,14 @@
 
 namespace trident {
 
-const char* to_string(BvhBuilder builder) { return builder == BvhBuilder::binned_sah ? "binned_sah" : "sweep_sah"; }
+const char* to_string(BvhBuilder builder) {
+    switch (builder) {
+        case BvhBuilder::binned_sah: return "binned_sah";
+        case BvhBuilder::sweep_sah: return "sweep_sah";
+        case BvhBuilder::spatial_sah: return "spatial_sah";
+    }
+    return "unknown";
+}
 
 BvhOptions BvhOptions::study() {
     BvhOptions options;
@@ -19,7 +26,10 @@ BvhOptions BvhOptions::study() {
 
 void BvhOptions::validate() const {
     auto fail = [](const std::string& what) { throw std::invalid_argument("BvhOptions: " + what); };
-    if (builder != BvhBuilder::binned_sah && builder != BvhBuilder::sweep_sah) fail("unknown builder");
+    if (builder != BvhBuilder::binned_sah && builder != BvhBuilder::sweep_sah && builder != BvhBuilder::spatial_sah)
+        fail("unknown builder");
+    if (!(spatial_split_budget >= 0.0f && spatial_split_budget <= kMaxSpatialSplitBudget))
+        fail("spatial_split_budget must be in [0, " + std::to_string(kMaxSpatialSplitBudget) + "]");
     if (bin_count < kMinBins || bin_count > kMaxBins)
         fail("bin_count " + std::to_string(bin_count) + " is outside [" + std::to_string(kMinBins) + ", " +
              std::to_string(kMaxBins) + "]");

@@ -7,6 +7,7 @@ namespace trident {
 enum class BvhBuilder {
     binned_sah,  // SAH at the boundaries of centroid bins (Wald 2007): the fast default
     sweep_sah,   // SAH at every plane between sorted centroids, all three axes: the quality reference
+    spatial_sah,  // binned SAH with spatial splits (Stich et al. 2009): the higher-quality build
 };
 
 const char* to_string(BvhBuilder builder);
@@ -34,6 +35,10 @@ struct BvhOptions {
     float intersection_cost = 1.0f;
     /// A node this large is split even when SAH prefers a leaf (median split if SAH finds none).
     int max_leaf_size = 8;
+    /// spatial_sah: the references it may add by cutting triangles, as a share of the triangles,
+    /// in [0, kMaxSpatialSplitBudget] (0: object splits only).
+    float spatial_split_budget = 0.5f;
+    static constexpr float kMaxSpatialSplitBudget = 4.0f;
     /// Children per node of AccelKind::bvh's tree: 2 (the binary tree), 4 or 8 (the wide BVH,
     /// wide_bvh.h, built by collapsing the binary one). 8 is the fastest on every AVX2 and
     /// AVX-512 machine measured (bench/experiments/bvh_traversal.md).

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cassert>
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
@@ -37,7 +36,8 @@ constexpr double kNodeStepCost = 1.0, kBlockTestCost = 1.0;
 constexpr std::uint8_t kFewerSlots = 0, kAsLeaf = 0xfe, kAsNode = 0xff;
 
 /// Per binary node: the leaf-order triangles it spans, those of them with area (what its blocks
-/// hold), and the dynamic programme's decisions.
+/// hold, as many times as the span repeats a triangle cut by spatial splits: an upper bound of what
+/// a leaf holds), and the dynamic programme's decisions.
 template <std::size_t Width>
 struct CollapsePlan {
     std::vector<std::uint32_t> spanned, triangles;
@@ -129,11 +129,25 @@ struct PlannedNode {
     std::uint32_t child_count;
 };
 
-/// A leaf to fill: the binary subtree's leaf-order triangles (first, count), how many of them have
-/// area, its first block.
+/// A leaf to fill: where its triangles' leaf-order positions start in the list of them, how many
+/// there are, its first block.
 struct PlannedLeaf {
-    std::uint32_t first_triangle, spanned, triangle_count, first_block;
+    std::uint32_t first_source, triangle_count, first_block;
 };
+
+/// Appends to `sources` the leaf-order positions of the triangles a wide leaf holds: those of the
+/// binary subtree's span [first, first + spanned) that have area, each id once (a triangle cut by
+/// spatial splits may reach one wide leaf through several binary leaves); returns how many.
+std::uint32_t append_leaf_sources(std::uint32_t first, std::uint32_t spanned, std::span<const char> with_area,
+                                  std::span<const TriangleId> ids, std::vector<std::uint32_t>& sources) {
+    const std::size_t begin = sources.size();
+    for (std::uint32_t p = first; p != first + spanned; ++p) {
+        const auto same_id = [&](std::uint32_t q) { return ids[q] == ids[p]; };
+        if (with_area[p] && std::none_of(sources.begin() + std::ptrdiff_t(begin), sources.end(), same_id))
+            sources.push_back(p);
+    }
+    return std::uint32_t(sources.size() - begin);
+}
 
 /// The wide node made of binary node b: its Width slots shared between b's children as planned.
 template <std::size_t Width>
@@ -169,6 +183,7 @@ WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, st
     // Plan serially (a few operations a wide node), children of a node numbered side by side.
     std::vector<PlannedNode<Width>> planned;
     std::vector<PlannedLeaf> leaves;
+    std::vector<std::uint32_t> leaf_sources;  // the leaves' triangles, leaf by leaf
     std::vector<ChildRef> refs(Width, ChildRef::empty());  // per planned node, Width slots
     std::uint32_t block_count = 0;
     // The root: a binary leaf (or a root that is one wide leaf) becomes the single child of node 0.
@@ -184,12 +199,14 @@ WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, st
         for (std::uint32_t k = 0; k < node.child_count; ++k) {
             const std::uint32_t b = node.children[k];
             if (plan.is_leaf(b)) {
-                const std::uint32_t count = plan.triangles[b];
+                const auto first_source = std::uint32_t(leaf_sources.size());
+                const std::uint32_t count =
+                    append_leaf_sources(first_triangle_of(nodes, b), plan.spanned[b], with_area, ids, leaf_sources);
                 if (block_count > ChildRef::kMaxFirstBlock)
                     throw std::length_error("wide BVH: more than " + std::to_string(ChildRef::kMaxFirstBlock) +
                                             " triangle blocks");
                 refs[next * Width + k] = ChildRef::leaf(block_count, count);
-                leaves.push_back({first_triangle_of(nodes, b), plan.spanned[b], count, block_count});
+                leaves.push_back({first_source, count, block_count});
                 out.references += count;
                 const std::uint32_t blocks = (count + BlockSize - 1) / BlockSize;
                 block_count += blocks;
@@ -229,13 +246,9 @@ WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, st
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 1024), [&](const auto& range) {
         for (std::size_t l = range.begin(); l != range.end(); ++l) {
             const PlannedLeaf& leaf = leaves[l];
-            std::uint32_t source = leaf.first_triangle;
-            [[maybe_unused]] const std::uint32_t end = leaf.first_triangle + leaf.spanned;
             for (std::uint32_t k = 0; k < (leaf.triangle_count + BlockSize - 1) / BlockSize * BlockSize; ++k) {
-                // The next triangle with area; past the leaf's last, the padding repeats it.
-                if (k != 0 && k < leaf.triangle_count) ++source;
-                while (k < leaf.triangle_count && !with_area[source]) ++source;
-                assert(source < end);
+                // Past the leaf's last triangle, the padding repeats it.
+                const std::uint32_t source = leaf_sources[leaf.first_source + std::min(k, leaf.triangle_count - 1)];
                 TriangleBlock<BlockSize>& block = out.blocks[leaf.first_block + k / BlockSize];
                 const std::size_t lane = k % BlockSize;
                 const Triangle& tri = triangles[source];

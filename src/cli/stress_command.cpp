@@ -31,6 +31,7 @@ struct StressCommandOptions {
     std::string triangle_test = "watertight";
     std::string slabs = "robust";
     int bvh_width = BvhOptions{}.width;
+    std::string bvh_builder = "binned";
     std::size_t brute_rays = 20'000;
     int threads = 0;
     std::optional<std::filesystem::path> json;
@@ -50,6 +51,9 @@ StressRunOptions run_options(const StressCommandOptions& o) {
         run.accels.push_back(*kind);
     }
     run.accel_options.bvh.width = o.bvh_width;
+    run.accel_options.bvh.builder = o.bvh_builder == "spatial" ? BvhBuilder::spatial_sah
+                                    : o.bvh_builder == "sweep" ? BvhBuilder::sweep_sah
+                                                               : BvhBuilder::binned_sah;
     for (const std::string& name : o.widths) {
         if (name == "all") {
             const auto all = runnable_widths();
@@ -117,6 +121,9 @@ StressCommand::StressCommand(CLI::App& app) : options_(std::make_unique<StressCo
         ->delimiter(',');
     command_->add_option("--bvh-width", o.bvh_width, "children per node of the bvh rows' tree: 2, 4 or 8 (default 8)")
         ->check(CLI::IsMember({2, 4, 8}));
+    command_->add_option("--bvh-builder", o.bvh_builder,
+                         "builder of the bvh and bvh2 rows' trees: binned (default), sweep or spatial (spatial splits)")
+        ->check(CLI::IsMember({"binned", "sweep", "spatial"}));
     command_->add_option("--simd", o.widths, "widths, comma-separated: all (default) or scalar,4,8,16")->delimiter(',');
     command_->add_option("--triangle-test", o.triangle_test, "watertight (default) or moller_trumbore");
     command_->add_option("--slabs", o.slabs, "box tests: robust (default) or fast, to measure what the fast one loses");
@@ -175,6 +182,7 @@ int StressCommand::run() const {
         out << nlohmann::json{{"seed", o.seed}, {"rays_per_case", o.rays}, {"triangle_test", o.triangle_test},
                               {"slabs", o.slabs},
                               {"bvh_width", o.bvh_width},
+                              {"bvh_builder", o.bvh_builder},
                               {"rows", rows}, {"leaks", leaks}, {"disagreements", disagreements},
                               {"seconds", seconds}}
                    .dump(1)

@@ -49,14 +49,18 @@ inline void check_invariants(const Bvh& bvh, const Mesh& mesh) {
     const auto triangles = bvh.leaf_triangles();
     const auto ids = bvh.leaf_triangle_ids();
     const std::size_t n = mesh.triangle_count();
-    REQUIRE(triangles.size() == n);
-    REQUIRE(ids.size() == n);
+    // Spatial splits put a cut triangle in each leaf its pieces reached: more slots than triangles.
+    const bool spatial = bvh.options().builder == BvhBuilder::spatial_sah;
+    const std::size_t slots = ids.size();
+    REQUIRE(triangles.size() == slots);
+    REQUIRE((spatial ? slots >= n : slots == n));
     REQUIRE(nodes.empty() == (n == 0));
 
-    // Leaf-order slots hold each file-order triangle exactly once, with its exact corners.
+    // Leaf-order slots hold each file-order triangle exactly once (at least once with spatial
+    // splits), with its exact corners.
     std::vector<int> seen_id(n, 0);
     std::size_t wrong_corners = 0;
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; i < slots; ++i) {
         if (ids[i] >= n) FAIL("leaf slot ", i, " holds id ", ids[i], " of ", n);
         ++seen_id[ids[i]];
         const Triangle expected = triangle_of(mesh, ids[i]);
@@ -64,14 +68,19 @@ inline void check_invariants(const Bvh& bvh, const Mesh& mesh) {
             !(triangles[i].a == expected.a && triangles[i].b == expected.b && triangles[i].c == expected.c);
     }
     CHECK(wrong_corners == 0);
-    CHECK(std::count(seen_id.begin(), seen_id.end(), 1) == std::ptrdiff_t(n));
+    if (spatial)
+        CHECK(std::count(seen_id.begin(), seen_id.end(), 0) == 0);
+    else
+        CHECK(std::count(seen_id.begin(), seen_id.end(), 1) == std::ptrdiff_t(n));
 
     // Depth-first walk: every node is visited at its own index (left child right after its
-    // parent, right child after the whole left subtree); leaves tile the slots exactly once.
-    std::vector<int> slot_covered(n, 0);
+    // parent, right child after the whole left subtree); leaves tile the slots exactly once. A
+    // leaf's box holds its triangles (with spatial splits, the pieces it was given: it meets each
+    // triangle's box) and no triangle twice.
+    std::vector<int> slot_covered(slots, 0);
     std::size_t next = 0, leaves = 0, references = 0, max_leaf = 0, max_depth = 0;
     std::size_t out_of_order = 0, child_outside_parent = 0, triangle_outside_leaf = 0, oversized_leaves = 0,
-                bad_axes = 0;
+                bad_axes = 0, repeated_in_leaf = 0;
     auto walk = [&](auto&& self, std::uint32_t index, std::size_t depth, const Aabb* parent) -> void {
         out_of_order += index != next;
         if (index >= nodes.size()) FAIL("node index ", index, " of ", nodes.size());
@@ -84,10 +93,14 @@ inline void check_invariants(const Bvh& bvh, const Mesh& mesh) {
             references += node.triangle_count();
             max_leaf = std::max<std::size_t>(max_leaf, node.triangle_count());
             oversized_leaves += node.triangle_count() > std::uint32_t(bvh.options().max_leaf_size);
-            if (node.first_triangle() + node.triangle_count() > n) FAIL("leaf ", index, " runs past the triangles");
+            if (node.first_triangle() + node.triangle_count() > slots)
+                FAIL("leaf ", index, " runs past the triangles");
             for (std::uint32_t i = node.first_triangle(); i < node.first_triangle() + node.triangle_count(); ++i) {
                 ++slot_covered[i];
-                triangle_outside_leaf += !node.bounds.contains(triangles[i].bounds());
+                const Aabb box = triangles[i].bounds();
+                triangle_outside_leaf += spatial ? Aabb{max(box.lo, node.bounds.lo), min(box.hi, node.bounds.hi)}.is_empty()
+                                                 : !node.bounds.contains(box);
+                repeated_in_leaf += std::count(ids.begin() + node.first_triangle(), ids.begin() + i, ids[i]) != 0;
             }
             return;
         }
@@ -103,7 +116,8 @@ inline void check_invariants(const Bvh& bvh, const Mesh& mesh) {
     CHECK(triangle_outside_leaf == 0);
     CHECK(oversized_leaves == 0);
     CHECK(bad_axes == 0);
-    CHECK(std::count(slot_covered.begin(), slot_covered.end(), 1) == std::ptrdiff_t(n));
+    CHECK(repeated_in_leaf == 0);
+    CHECK(std::count(slot_covered.begin(), slot_covered.end(), 1) == std::ptrdiff_t(slots));
     CHECK(max_depth <= kBvhMaxDepth);
 
     const AccelStats& stats = bvh.stats();
@@ -113,11 +127,11 @@ inline void check_invariants(const Bvh& bvh, const Mesh& mesh) {
     CHECK(stats.leaves == leaves);
     CHECK(stats.empty_leaves == 0);
     CHECK(stats.references == references);
-    CHECK(stats.references == n);
+    CHECK(stats.references == slots);
     CHECK(stats.max_leaf_size == max_leaf);
     CHECK(stats.max_depth == max_depth);
     CHECK(stats.mean_leaf_size == doctest::Approx(leaves ? double(references) / double(leaves) : 0.0));
-    CHECK(stats.bytes == nodes.size() * sizeof(BvhNode) + n * (sizeof(Triangle) + sizeof(TriangleId)));
+    CHECK(stats.bytes == nodes.size() * sizeof(BvhNode) + slots * (sizeof(Triangle) + sizeof(TriangleId)));
     CHECK(stats.sah_cost == bvh_sah_cost(nodes, bvh.options().traversal_cost, bvh.options().intersection_cost));
     CHECK(stats.build_ms >= 0.0);
 }

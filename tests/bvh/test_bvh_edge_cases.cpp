@@ -27,7 +27,7 @@ void require_matches_reference(const Bvh& bvh, const Mesh& mesh, const std::vect
 
 TEST_CASE("an empty mesh builds an empty tree that every ray misses") {
     const Mesh mesh;
-    for (BvhBuilder builder : {BvhBuilder::binned_sah, BvhBuilder::sweep_sah}) {
+    for (BvhBuilder builder : {BvhBuilder::binned_sah, BvhBuilder::sweep_sah, BvhBuilder::spatial_sah}) {
         BvhOptions options;
         options.builder = builder;
         const Bvh bvh = Bvh::build(mesh, options);
@@ -58,7 +58,7 @@ TEST_CASE("one triangle is a single leaf, hit and missed correctly") {
 TEST_CASE("identical triangles (every centroid equal) fall back to median splits and leaves within the cap") {
     Mesh mesh;
     for (int i = 0; i < 500; ++i) add_triangle(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0});
-    for (BvhBuilder builder : {BvhBuilder::binned_sah, BvhBuilder::sweep_sah}) {
+    for (BvhBuilder builder : {BvhBuilder::binned_sah, BvhBuilder::sweep_sah, BvhBuilder::spatial_sah}) {
         BvhOptions options;
         options.builder = builder;
         const Bvh bvh = Bvh::build(mesh, options);
@@ -82,7 +82,7 @@ TEST_CASE("triangles all in one plane (zero extent on an axis) and nested ones s
         add_triangle(nested, {-s, -s, 0}, {2 * s, -s, 0}, {-s, 2 * s, 0});
     }
     for (const Mesh* mesh : {&flat, &nested})
-        for (BvhBuilder builder : {BvhBuilder::binned_sah, BvhBuilder::sweep_sah}) {
+        for (BvhBuilder builder : {BvhBuilder::binned_sah, BvhBuilder::sweep_sah, BvhBuilder::spatial_sah}) {
             BvhOptions options;
             options.builder = builder;
             const Bvh bvh = Bvh::build(*mesh, options);
@@ -131,6 +131,26 @@ TEST_CASE("the ray interval is honoured: hits count from tmin inclusive to tmax 
     CHECK(triangle_of(mesh, hit.triangle).a.z == 3.0f);  // the id is the file-order index
 }
 
+TEST_CASE("spatial splits cut large triangles among small ones: more references, a lower SAH, the same hits") {
+    const Mesh mesh = soup_with_large_triangles(3000, 30, 21);
+    BvhOptions spatial;
+    spatial.builder = BvhBuilder::spatial_sah;
+    const Bvh objects = Bvh::build(mesh), cut = Bvh::build(mesh, spatial);
+    check_invariants(cut, mesh);
+    CHECK(cut.stats().references > mesh.triangle_count());
+    CHECK(cut.stats().references <= std::size_t(double(mesh.triangle_count()) * (1.0 + spatial.spatial_split_budget)));
+    CHECK(cut.stats().sah_cost < 0.95 * objects.stats().sah_cost);
+    std::vector<Ray> rays = random_rays(mesh.bounds(), 1500, 22);
+    for (const Ray& r : random_rays(mesh.bounds(), 300, 23, 1)) rays.push_back(r);  // axis-parallel, along the planes
+    require_matches_reference(cut, mesh, rays);
+    // No budget: object splits only, each triangle once.
+    spatial.spatial_split_budget = 0.0f;
+    const Bvh uncut = Bvh::build(mesh, spatial);
+    check_invariants(uncut, mesh);
+    CHECK(uncut.stats().references == mesh.triangle_count());
+    CHECK(cut.stats().sah_cost < 0.95 * uncut.stats().sah_cost);
+}
+
 TEST_CASE("invalid options are rejected with a message naming the field") {
     auto rejects = [](auto change, const char* field) {
         BvhOptions options;
@@ -153,6 +173,8 @@ TEST_CASE("invalid options are rejected with a message naming the field") {
     rejects([](BvhOptions& o) { o.traversal_cost = -1.0f; }, "traversal_cost");
     rejects([](BvhOptions& o) { o.intersection_cost = 0.0f; }, "intersection_cost");
     rejects([](BvhOptions& o) { o.builder = BvhBuilder(7); }, "builder");
+    rejects([](BvhOptions& o) { o.spatial_split_budget = -0.5f; }, "spatial_split_budget");
+    rejects([](BvhOptions& o) { o.spatial_split_budget = 5.0f; }, "spatial_split_budget");
     for (int bins : {8, 64}) {
         BvhOptions options;
         options.bin_count = options.large_node_bin_count = bins;

@@ -27,7 +27,10 @@ TEST_CASE("the flattened tree keeps every invariant on random soups, for every b
     BvhOptions sixty_four;
     sixty_four.bin_count = 64;
     sixty_four.large_node_bin_count = 64;
-    for (const BvhOptions& options : {BvhOptions{}, BvhOptions::study(), sweep, one_per_leaf, big_leaves, sixty_four})
+    BvhOptions spatial;
+    spatial.builder = BvhBuilder::spatial_sah;
+    for (const BvhOptions& options :
+         {BvhOptions{}, BvhOptions::study(), sweep, one_per_leaf, big_leaves, sixty_four, spatial})
         for (std::size_t count : {1u, 2u, 3u, 50u, 5000u}) {
             CAPTURE(count);
             CAPTURE(to_string(options.builder));
@@ -59,9 +62,11 @@ TEST_CASE("one thread and all threads build the same flattened tree, byte for by
     // Large enough for parallel binning, parallel subtrees and the large-node bins.
     BvhOptions sweep;
     sweep.builder = BvhBuilder::sweep_sah;
-    for (const BvhOptions& options : {BvhOptions{}, BvhOptions::study(), sweep}) {
+    BvhOptions spatial;
+    spatial.builder = BvhBuilder::spatial_sah;
+    for (const BvhOptions& options : {BvhOptions{}, BvhOptions::study(), sweep, spatial}) {
         CAPTURE(to_string(options.builder));
-        const Mesh mesh = random_soup(options.builder == BvhBuilder::sweep_sah ? 30000 : 70000, 9, 0.02f);
+        const Mesh mesh = random_soup(options.builder == BvhBuilder::binned_sah ? 70000 : 30000, 9, 0.02f);
         tbb::task_arena one_thread(1);
         Bvh serial = one_thread.execute([&] { return Bvh::build(mesh, options); });
         Bvh parallel = Bvh::build(mesh, options);

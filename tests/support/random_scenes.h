@@ -1,5 +1,6 @@
 #pragma once
 // Random triangle soups and rays for property tests, deterministic by seed.
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -19,6 +20,21 @@ inline Mesh random_soup(std::size_t count, std::uint32_t seed, float size = 0.2f
         const auto b = mesh.add_vertex(c + Vec3f{offset(rng), offset(rng), offset(rng)});
         const auto d = mesh.add_vertex(c + Vec3f{offset(rng), offset(rng), offset(rng)});
         mesh.add_triangle(a, b, d);
+    }
+    return mesh;
+}
+
+/// random_soup's small triangles with `large` triangles across the whole box among them (the
+/// walls and beams of an architectural scene): an object split leaves a large triangle's box over
+/// one child's small ones, a spatial split cuts it so that both children stay tight.
+inline Mesh soup_with_large_triangles(std::size_t count, std::size_t large, std::uint32_t seed) {
+    Mesh mesh = random_soup(count, seed, 0.05f);
+    std::mt19937 rng(seed + 1);
+    std::uniform_real_distribution<float> corner(-1.0f, 1.0f);
+    for (std::size_t i = 0; i < large; ++i) {
+        const Vec3f a{corner(rng), -1.0f, corner(rng)}, b{corner(rng), 1.0f, corner(rng)};
+        const Vec3f c{-a.x, corner(rng), -b.z};
+        mesh.add_triangle(mesh.add_vertex(a), mesh.add_vertex(b), mesh.add_vertex(c));
     }
     return mesh;
 }
