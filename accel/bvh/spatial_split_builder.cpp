@@ -16,12 +16,15 @@ namespace trident::bvh {
 
 namespace {
 
-/// Bins per axis of the object and the spatial split searches (Stich et al. use 32 and 32 too;
-/// fewer for small nodes would be cheaper, but this builder is the slow, high-quality one).
-constexpr int kBins = 32;
+/// Bins per axis of the object split search (fewer for small nodes, as the binned builder and
+/// Embree do) and of the spatial split search (16 built Sponza 1.5x faster but left Room's SAH
+/// 8% higher: bench/experiments/bvh-traversal.md).
+constexpr int kObjectBins = 32, kSpatialBins = 32;
 /// Spatial splits are looked for where the object split's children overlap by more than this
-/// share of the root's surface area (Stich et al.'s alpha).
-constexpr double kOverlapShare = 1e-5;
+/// share of the root's surface area (Stich et al.'s alpha). Their 1e-5 searched far more nodes for
+/// the same trees: 1e-2 kept the wide tree's SAH within 0.8% of it on Sponza, Room and Dragon,
+/// and built them 2.7-3.7x faster (bench/experiments/bvh-traversal.md).
+constexpr double kOverlapShare = 1e-2;
 /// Nodes with fewer references are split by objects alone: near the leaves a triangle spans many
 /// of a node's spatial bins, so chopping costs most there, while a split saves least.
 /// 64 built Sponza 1.3x faster than 16 for 0.3% more SAH (bench/experiments/bvh-traversal.md).
@@ -195,47 +198,54 @@ private:
         return true;
     }
 
-    /// Centroids in kBins bins per axis of their box; the SAH at every bin boundary.
+    static int object_bins(std::size_t count) { return int(std::min<std::size_t>(kObjectBins, 4 + count / 4)); }
+
+    /// Centroids in object_bins() bins per axis of their box; the SAH at every bin boundary.
     Split best_object_split(const std::vector<Reference>& refs, double area) const {
         Aabb centroids;
         for (const Reference& r : refs) centroids.extend(r.box.center());
+        const int bins = object_bins(refs.size());
+        const Vec3f extent = centroids.extent();
+        std::array<std::array<Aabb, kObjectBins>, 3> boxes;  // one pass over the references for all three axes
+        std::array<std::array<std::uint32_t, kObjectBins>, 3> counts{};
+        for (const Reference& r : refs)
+            for (int axis = 0; axis < 3; ++axis) {
+                if (!(extent[axis] > 0.0f)) continue;
+                const int b = object_bin(r.centroid(axis), centroids.lo[axis], extent[axis], bins);
+                boxes[axis][b].extend(r.box);
+                ++counts[axis][b];
+            }
         Split best;
         for (int axis = 0; axis < 3; ++axis) {
-            const float extent = centroids.hi[axis] - centroids.lo[axis];
-            if (!(extent > 0.0f)) continue;
-            std::array<Aabb, kBins> boxes;
-            std::array<std::uint32_t, kBins> counts{};
-            for (const Reference& r : refs) {
-                const int b = object_bin(r.centroid(axis), centroids.lo[axis], extent);
-                boxes[b].extend(r.box);
-                ++counts[b];
-            }
-            sweep(boxes, counts, counts, refs.size(), area, axis, best);
+            if (!(extent[axis] > 0.0f)) continue;
+            const auto axis_counts = std::span<const std::uint32_t>(counts[axis]).first(std::size_t(bins));
+            sweep(std::span<const Aabb>(boxes[axis]).first(std::size_t(bins)), axis_counts, axis_counts, refs.size(),
+                  area, axis, best);
         }
         return best;
     }
 
-    static int object_bin(float centroid, float lo, float extent) {
-        return std::clamp(int((centroid - lo) * (float(kBins) / extent)), 0, kBins - 1);
+    static int object_bin(float centroid, float lo, float extent, int bins) {
+        return std::clamp(int((centroid - lo) * (float(bins) / extent)), 0, bins - 1);
     }
 
-    /// The plane between spatial bins k - 1 and k (1 <= k < kBins) of `bounds` on `axis`.
+    /// The plane between spatial bins k - 1 and k (1 <= k < kSpatialBins) of `bounds` on `axis`.
     static float plane(const Aabb& bounds, int axis, int k) {
-        return float(double(bounds.lo[axis]) + (double(bounds.hi[axis]) - bounds.lo[axis]) * k / kBins);
+        return float(double(bounds.lo[axis]) + (double(bounds.hi[axis]) - bounds.lo[axis]) * k / kSpatialBins);
     }
 
-    /// Each reference chopped at the planes of kBins equal bins of the node's box, its pieces'
+    /// Each reference chopped at the planes of kSpatialBins equal bins of the node's box, its pieces'
     /// boxes grown into the bins they fall in, counted where it enters and where it leaves (Stich et
     /// al.'s chopped binning); the SAH at every plane, within the budget of references.
     Split best_spatial_split(const std::vector<Reference>& refs, const Aabb& bounds, double area, double budget) const {
         Split best;
         for (int axis = 0; axis < 3; ++axis) {
             if (!(bounds.hi[axis] > bounds.lo[axis])) continue;
-            std::array<float, kBins + 1> planes;
-            for (int k = 1; k < kBins; ++k) planes[k] = plane(bounds, axis, k);
-            const auto first = planes.begin() + 1, last = planes.begin() + kBins;
-            std::array<Aabb, kBins> boxes;
-            std::array<std::uint32_t, kBins> entries{}, exits{};
+            std::array<float, kSpatialBins + 1> planes;
+            for (int k = 1; k < kSpatialBins; ++k) planes[k] = plane(bounds, axis, k);
+            const auto first = planes.begin() + 1, last = planes.begin() + kSpatialBins;
+            std::array<Aabb, kSpatialBins> boxes;
+            std::array<std::uint32_t, kSpatialBins> entries{}, exits{};
             for (const Reference& r : refs) {
                 // Bin b spans [planes[b], planes[b + 1]): a piece lying on a plane goes below it, as
                 // partition_spatial sends it.
@@ -262,15 +272,16 @@ private:
     /// right of it those in `right_counts` (the same for object bins; entries and exits for
     /// spatial ones). Boundaries that leave a child empty, or whose children would add more than
     /// `budget` references, are passed over.
-    void sweep(const std::array<Aabb, kBins>& boxes, const std::array<std::uint32_t, kBins>& left_counts,
-               const std::array<std::uint32_t, kBins>& right_counts, std::size_t count, double area, int axis,
-               Split& best, double budget = 0.0) const {
-        std::array<double, kBins> right_area;
-        std::array<std::size_t, kBins> right_count;
-        std::array<Aabb, kBins> right_box;
+    void sweep(std::span<const Aabb> boxes, std::span<const std::uint32_t> left_counts,
+               std::span<const std::uint32_t> right_counts, std::size_t count, double area, int axis, Split& best,
+               double budget = 0.0) const {
+        const int bins = int(boxes.size());
+        std::array<double, kObjectBins> right_area;
+        std::array<std::size_t, kObjectBins> right_count;
+        std::array<Aabb, kObjectBins> right_box;
         Aabb box;
         std::size_t n = 0;
-        for (int b = kBins - 1; b > 0; --b) {
+        for (int b = bins - 1; b > 0; --b) {
             box.extend(boxes[b]);
             n += right_counts[b];
             right_area[b] = surface_area_in_double(box);
@@ -279,7 +290,7 @@ private:
         }
         box = Aabb{};
         n = 0;
-        for (int b = 1; b < kBins; ++b) {
+        for (int b = 1; b < bins; ++b) {
             box.extend(boxes[b - 1]);
             n += left_counts[b - 1];
             const std::size_t nl = n, nr = right_count[b];
@@ -295,8 +306,12 @@ private:
         Aabb centroids;
         for (const Reference& r : refs) centroids.extend(r.box.center());
         const float lo = centroids.lo[split.axis], extent = centroids.hi[split.axis] - lo;
+        const int bins = object_bins(refs.size());
+        children.left.reserve(refs.size());
+        children.right.reserve(refs.size());
         for (const Reference& r : refs)
-            (object_bin(r.centroid(split.axis), lo, extent) < split.boundary ? children.left : children.right).push_back(r);
+            (object_bin(r.centroid(split.axis), lo, extent, bins) < split.boundary ? children.left : children.right)
+                .push_back(r);
         children.left_bounds = split.left_bounds;
         children.right_bounds = split.right_bounds;
         children.axis = split.axis;
@@ -309,6 +324,8 @@ private:
                            Children& children) const {
         const int axis = split.axis;
         const float at = plane(bounds, axis, split.boundary);
+        children.left.reserve(refs.size());
+        children.right.reserve(refs.size());
         for (const Reference& r : refs) {
             if (r.box.hi[axis] <= at) {
                 children.left.push_back(r);
