@@ -74,6 +74,21 @@ def test_intersect_matches_double_precision_brute_force(soup_case, accel, simd):
     assert np.all(hits.normal[hits.triangle == -1] == 0)
 
 
+@pytest.mark.parametrize("accel", ["bvh", "bvh2"])
+def test_spatial_splits_give_the_same_hits(soup_case, accel):
+    vertices, triangles, origins, directions, ref = soup_case
+    plain = trident.Scene(vertices, triangles, accel=accel)
+    cut = trident.Scene(vertices, triangles, accel=accel, builder="spatial", spatial_split_budget=1.0)
+    assert cut.stats["references"] >= plain.stats["references"]
+    expected, hits = plain.intersect(origins, directions), cut.intersect(origins, directions)
+    np.testing.assert_array_equal(hits.triangle, expected.triangle)
+    np.testing.assert_array_equal(hits.t, expected.t)
+    np.testing.assert_array_equal(cut.occluded(origins, directions), plain.occluded(origins, directions))
+    np.testing.assert_array_equal(cut.count_hits(origins, directions), ref["count"])
+    with pytest.raises(ValueError, match="spatial_split_budget"):
+        trident.Scene(vertices, triangles, builder="spatial", spatial_split_budget=-1.0)
+
+
 @pytest.mark.parametrize("accel", STRUCTURES)
 def test_occluded_and_count_hits_match_brute_force(soup_case, accel):
     vertices, triangles, origins, directions, ref = soup_case
