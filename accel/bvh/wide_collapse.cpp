@@ -66,6 +66,12 @@ struct CollapsePlan {
 /// leaf of blocks or as a wide node of its own (a node step, then its Width slots shared between
 /// its children), or more slots shared between its children. Ties go to the leaf, then to fewer
 /// slots, then to the smaller left share, so the tree does not depend on rounding order.
+///
+/// Only the decisions are kept per node. The costs live on a stack of the subtrees whose parent is
+/// still ahead (in reverse depth-first order a node's left child is the last subtree finished and
+/// its right child the one before), at most one a level. And a subtree of L binary leaves uses at
+/// most L slots, so only shares of at most L are weighed: the cheapest share is among them, and
+/// more slots than L only fall back to L.
 template <std::size_t Width, std::size_t BlockSize>
 CollapsePlan<Width> plan_collapse(std::span<const BvhNode> nodes, std::span<const char> with_area,
                                   std::uint32_t leaf_limit) {
@@ -74,7 +80,12 @@ CollapsePlan<Width> plan_collapse(std::span<const BvhNode> nodes, std::span<cons
     CollapsePlan<Width> plan{std::vector<std::uint32_t>(nodes.size()), std::vector<std::uint32_t>(nodes.size()),
                              std::vector<std::array<std::uint8_t, Width>>(nodes.size()),
                              std::vector<std::uint8_t>(nodes.size())};
-    std::vector<std::array<double, Width>> cost(nodes.size());  // cost[n][slots - 1]
+    struct SubtreeCost {
+        std::array<double, Width> cost;  // cost[slots - 1]
+        std::size_t leaves;              // binary leaves: the most slots it can use
+    };
+    std::vector<SubtreeCost> pending;
+    pending.reserve(kBvhMaxDepth + 2);
     const auto blocks_of = [](std::uint32_t triangles) { return double((triangles + BlockSize - 1) / BlockSize); };
     for (std::size_t i = nodes.size(); i-- > 0;) {
         const BvhNode& node = nodes[i];
@@ -87,35 +98,44 @@ CollapsePlan<Width> plan_collapse(std::span<const BvhNode> nodes, std::span<cons
                 throw std::length_error("wide BVH: a leaf of " + std::to_string(plan.triangles[i]) + " triangles");
             plan.decision[i].fill(kFewerSlots);
             plan.decision[i][0] = kAsLeaf;
-            cost[i].fill(area * kBlockTestCost * blocks_of(plan.triangles[i]));
+            SubtreeCost leaf{{}, 1};
+            leaf.cost.fill(area * kBlockTestCost * blocks_of(plan.triangles[i]));
+            pending.push_back(leaf);
             continue;
         }
-        const std::size_t left = i + 1, right = node.right_child();
-        plan.spanned[i] = plan.spanned[left] + plan.spanned[right];
-        plan.triangles[i] = plan.triangles[left] + plan.triangles[right];
+        const SubtreeCost left = pending.back();
+        pending.pop_back();
+        const SubtreeCost right = pending.back();
+        pending.pop_back();
+        plan.spanned[i] = plan.spanned[i + 1] + plan.spanned[node.right_child()];
+        plan.triangles[i] = plan.triangles[i + 1] + plan.triangles[node.right_child()];
+        const std::size_t usable = std::min(Width, left.leaves + right.leaves);
         // shared[s - 1]: the children's cheapest with s slots between them, and the left's share.
         std::array<double, Width> shared;
         std::array<std::uint8_t, Width> left_share{};
         shared[0] = std::numeric_limits<double>::infinity();
-        for (std::size_t s = 2; s <= Width; ++s) {
+        for (std::size_t s = 2; s <= usable; ++s) {
             shared[s - 1] = std::numeric_limits<double>::infinity();
-            for (std::size_t k = 1; k < s; ++k) {
-                const double c = cost[left][k - 1] + cost[right][s - k - 1];
+            const std::size_t first = s > right.leaves ? s - right.leaves : 1, last = std::min(s - 1, left.leaves);
+            for (std::size_t k = first; k <= last; ++k) {
+                const double c = left.cost[k - 1] + right.cost[s - k - 1];
                 if (c < shared[s - 1]) shared[s - 1] = c, left_share[s - 1] = std::uint8_t(k);
             }
         }
-        const double as_node = area * kNodeStepCost + shared[Width - 1];
+        SubtreeCost own{{}, left.leaves + right.leaves};
+        const double as_node = area * kNodeStepCost + shared[usable - 1];
         const double as_leaf = plan.triangles[i] <= largest_leaf
                                    ? area * kBlockTestCost * blocks_of(plan.triangles[i])
                                    : std::numeric_limits<double>::infinity();
-        plan.split[i] = left_share[Width - 1];
+        plan.split[i] = left_share[usable - 1];
         plan.decision[i][0] = as_leaf <= as_node ? kAsLeaf : kAsNode;
-        cost[i][0] = std::min(as_leaf, as_node);
+        own.cost[0] = std::min(as_leaf, as_node);
         for (std::size_t s = 2; s <= Width; ++s) {
-            const bool fewer = cost[i][s - 2] <= shared[s - 1];
+            const bool fewer = s > usable || own.cost[s - 2] <= shared[s - 1];
             plan.decision[i][s - 1] = fewer ? kFewerSlots : left_share[s - 1];
-            cost[i][s - 1] = fewer ? cost[i][s - 2] : shared[s - 1];
+            own.cost[s - 1] = fewer ? own.cost[s - 2] : shared[s - 1];
         }
+        pending.push_back(own);
     }
     return plan;
 }
