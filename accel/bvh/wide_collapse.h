@@ -42,7 +42,8 @@ struct WideArrays {
 
 /// The wide tree over the binary tree `nodes` (depth-first, root first) whose leaves cover
 /// `triangles` and `ids` in leaf order. A leaf gathers a binary subtree of at most
-/// min(leaf_limit, 2 * BlockSize) triangles (a binary leaf larger than that stays one leaf).
+/// min(leaf_limit, 2 * BlockSize) triangles (a binary leaf larger than that stays one leaf), each
+/// id once where spatial splits put a triangle in several of the subtree's binary leaves.
 /// Blocks are filled in parallel; the result does not depend on the number of threads. An empty
 /// tree gives no nodes.
 template <std::size_t Width, std::size_t BlockSize>
