@@ -19,7 +19,7 @@ namespace {
 /// Bins per axis of the object split search (fewer for small nodes, as the binned builder and
 /// Embree do) and of the spatial split search (16 built Sponza 1.5x faster but left Room's SAH
 /// 8% higher: bench/experiments/bvh-traversal.md).
-constexpr int kObjectBins = 32, kSpatialBins = 32;
+constexpr int kObjectBins = 32, kSpatialBins = 32, kMaxBins = std::max(kObjectBins, kSpatialBins);
 /// Spatial splits are looked for where the object split's children overlap by more than this
 /// share of the root's surface area (Stich et al.'s alpha). Their 1e-5 searched far more nodes for
 /// the same trees: 1e-2 kept the wide tree's SAH within 0.8% of it on Sponza, Room and Dragon,
@@ -43,6 +43,13 @@ struct Reference {
 Aabb bounds_of(std::span<const Reference> refs) {
     Aabb box;
     for (const Reference& r : refs) box.extend(r.box);
+    return box;
+}
+
+/// The box of the references' centroids (the centres of their boxes), what object splits bin.
+Aabb centroid_bounds_of(std::span<const Reference> refs) {
+    Aabb box;
+    for (const Reference& r : refs) box.extend(r.box.center());
     return box;
 }
 
@@ -178,7 +185,8 @@ private:
         const double area = surface_area_in_double(bounds);
         if (depth + 1 + std::uint32_t(std::bit_width(count - 1)) <= kBvhMaxDepth) {
             const double leaf_cost = double(options_.intersection_cost) * double(count) * area;
-            const Split object = best_object_split(refs, area);
+            const Aabb centroids = centroid_bounds_of(refs);
+            const Split object = best_object_split(refs, centroids, area);
             Split spatial;
             const Aabb overlap{max(object.left_bounds.lo, object.right_bounds.lo),
                                min(object.left_bounds.hi, object.right_bounds.hi)};
@@ -189,7 +197,7 @@ private:
                 partition_spatial(refs, bounds, spatial, children))
                 return true;
             if (object.cost < leaf_cost) {
-                partition_object(refs, object, children);
+                partition_object(refs, centroids, object, children);
                 return true;
             }
         }
@@ -201,9 +209,7 @@ private:
     static int object_bins(std::size_t count) { return int(std::min<std::size_t>(kObjectBins, 4 + count / 4)); }
 
     /// Centroids in object_bins() bins per axis of their box; the SAH at every bin boundary.
-    Split best_object_split(const std::vector<Reference>& refs, double area) const {
-        Aabb centroids;
-        for (const Reference& r : refs) centroids.extend(r.box.center());
+    Split best_object_split(const std::vector<Reference>& refs, const Aabb& centroids, double area) const {
         const int bins = object_bins(refs.size());
         const Vec3f extent = centroids.extent();
         std::array<std::array<Aabb, kObjectBins>, 3> boxes;  // one pass over the references for all three axes
@@ -276,9 +282,9 @@ private:
                std::span<const std::uint32_t> right_counts, std::size_t count, double area, int axis, Split& best,
                double budget = 0.0) const {
         const int bins = int(boxes.size());
-        std::array<double, kObjectBins> right_area;
-        std::array<std::size_t, kObjectBins> right_count;
-        std::array<Aabb, kObjectBins> right_box;
+        std::array<double, kMaxBins> right_area;
+        std::array<std::size_t, kMaxBins> right_count;
+        std::array<Aabb, kMaxBins> right_box;
         Aabb box;
         std::size_t n = 0;
         for (int b = bins - 1; b > 0; --b) {
@@ -302,9 +308,8 @@ private:
         }
     }
 
-    void partition_object(const std::vector<Reference>& refs, const Split& split, Children& children) const {
-        Aabb centroids;
-        for (const Reference& r : refs) centroids.extend(r.box.center());
+    void partition_object(const std::vector<Reference>& refs, const Aabb& centroids, const Split& split,
+                          Children& children) const {
         const float lo = centroids.lo[split.axis], extent = centroids.hi[split.axis] - lo;
         const int bins = object_bins(refs.size());
         children.left.reserve(refs.size());
@@ -349,9 +354,7 @@ private:
 
     /// The object median along the axis of largest centroid extent (any halves when all coincide).
     static void partition_median(const std::vector<Reference>& refs, Children& children) {
-        Aabb centroids;
-        for (const Reference& r : refs) centroids.extend(r.box.center());
-        const int axis = centroids.largest_axis();
+        const int axis = centroid_bounds_of(refs).largest_axis();
         std::vector<Reference> sorted = refs;
         const auto middle = sorted.begin() + std::ptrdiff_t(sorted.size() / 2);
         std::nth_element(sorted.begin(), middle, sorted.end(), [axis](const Reference& a, const Reference& b) {
