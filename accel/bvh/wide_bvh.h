@@ -37,6 +37,19 @@
 
 namespace trident {
 
+namespace bvh {
+
+/// When the packet walk hands lanes to the single-ray walk: at a subtree that at most
+/// `single_ray_lanes` lanes need; and, where `min_lane_use` > 0, at a node whose entered children
+/// its lanes use less than that share of (children entered) x (lanes entering any of them): then
+/// each of those lanes walks the node's subtree alone (Benthin et al. 2012's utilization switch).
+struct PacketSwitch {
+    int single_ray_lanes = 1;
+    float min_lane_use = 0.0f;
+};
+
+}  // namespace bvh
+
 template <std::size_t Width, std::size_t BlockSize>
 class WideBvh {
 public:
@@ -94,7 +107,7 @@ public:
 private:
     template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
     typename RayPacket<Arch>::Mask traverse_packet(const RayPacket<Arch>& rays, HitPacket<Arch>& hits,
-                                                   Counters& counters, int single_ray_lanes) const;
+                                                   Counters& counters, bvh::PacketSwitch to_single_rays) const;
 
     /// The lanes set in `lanes`, one by one with traverse() from `from`, each continuing from its
     /// record in `hits`; returns the any-hit lanes that hit (none for closest hit).

@@ -4,8 +4,9 @@
 // lane per ray, the slab test of core/slab_test.h with the planes ordered per lane), the children
 // some lane enters visited nearest first by their nearest lane's entry, and subtrees that at most
 // `single_ray_lanes` lanes still need handed to the single-ray walk (Benthin et al. 2012, as
-// bvh_packet.h and Embree's hybrid traversal do). A leaf tests each of its triangles against the
-// lanes that need it.
+// bvh_packet.h and Embree's hybrid traversal do), as are, for packets whose directions spread
+// wide, the lanes of a node whose children they mostly do not share (wide_packet_switch). A leaf
+// tests each of its triangles against the lanes that need it.
 //
 // Per lane, the box test, the pruning rule (entry <= closest hit widened by kPruneSlack) and the
 // tie rule (lowest id at equal t) are the single-ray walk's, so every lane ends with the single
@@ -71,8 +72,9 @@ std::pair<typename RayPacket<Arch>::Mask, typename RayPacket<Arch>::Float> lanes
 /// lower id (closest hit), or the first hit ends the lane (any hit: its t becomes -inf, and it
 /// joins `blocked`). Returns the lanes still live (any hit drops those that hit).
 template <bool AnyHit, class Intersector, std::size_t BlockSize, class Arch>
-typename RayPacket<Arch>::Mask test_triangle_lanes(const Intersector& intersector, const TriangleBlock<BlockSize>& block,
-                                                   std::size_t k, const RayPacket<Arch>& rays, HitPacket<Arch>& hits,
+typename RayPacket<Arch>::Mask test_triangle_lanes(const Intersector& intersector,
+                                                   const TriangleBlock<BlockSize>& block, std::size_t k,
+                                                   const RayPacket<Arch>& rays, HitPacket<Arch>& hits,
                                                    typename RayPacket<Arch>::Mask lanes,
                                                    typename RayPacket<Arch>::Mask& blocked) {
     using Float = typename RayPacket<Arch>::Float;
@@ -110,26 +112,60 @@ typename RayPacket<Arch>::Mask test_triangle_lanes(const Intersector& intersecto
     }
 }
 
+/// Whether every live lane's direction lies within the cone around the lanes' summed direction
+/// whose half-angle has cosine `cos_half_angle`. Only a choice of walk depends on it, never a hit,
+/// so the directions need not be unit length and the sums' rounding does not matter.
+template <class Arch>
+bool directions_within_cone(const RayPacket<Arch>& rays, float cos_half_angle) {
+    using Float = typename RayPacket<Arch>::Float;
+    const Float zero(0.0f);
+    const Vec3T<Float> d(xsimd::select(rays.active, rays.dir.x, zero), xsimd::select(rays.active, rays.dir.y, zero),
+                         xsimd::select(rays.active, rays.dir.z, zero));
+    const Vec3T<float> axis(xsimd::hadd(d.x), xsimd::hadd(d.y), xsimd::hadd(d.z));
+    const float axis_length2 = dot(axis, axis);
+    if (!(axis_length2 > 0.0f)) return false;
+    // cos(d, axis) >= c, squared to need no root: dot >= 0 and dot^2 >= c^2 |d|^2 |axis|^2.
+    const Float along = d.x * Float(axis.x) + d.y * Float(axis.y) + d.z * Float(axis.z);
+    const Float length2 = d.x * d.x + d.y * d.y + d.z * d.z;
+    const Float bound = Float(cos_half_angle * cos_half_angle * axis_length2) * length2;
+    return !xsimd::any(rays.active & ((along < zero) | (along * along < bound)));
+}
+
 }  // namespace bvh
 
-/// The threshold when the caller leaves it to the structure: a last single lane goes alone.
+/// The structure's own switch, where the caller leaves it (kDefaultSingleRayLanes): a last single
+/// lane goes alone; and a packet whose directions spread beyond a cone of about 26 degrees
+/// (cosine 0.9), as diffuse rays do, also goes ray by ray below a node whose entered children its
+/// lanes use less than half. Measured against Embree's packets of the same rays (one thread,
+/// bench/experiments/bvh-traversal.md): all lanes alone from the root took Gallery's and Buddha's
+/// 16-lane diffuse packets from 0.52-0.55x rtcIntersect16 to 0.75-0.79x, but Teapot's, whose rays
+/// mostly leave the scene after a few shared nodes, from 1.18x to 0.66x; the share of one half
+/// takes them to 0.70-0.71x and 1.00x. Primary and shadow packets stay within the cone. A
+/// caller's explicit threshold (tests, sweeps) means exactly that threshold and no second rule.
 inline constexpr int kWideSingleRayLanes = 1;
+inline constexpr float kCoherentCosine = 0.9f;
+inline constexpr float kIncoherentMinLaneUse = 0.5f;
+
+template <class Arch>
+bvh::PacketSwitch wide_packet_switch(const RayPacket<Arch>& rays, int single_ray_lanes) {
+    if (single_ray_lanes != kDefaultSingleRayLanes) return {single_ray_lanes, 0.0f};
+    const bool coherent = bvh::directions_within_cone(rays, kCoherentCosine);
+    return {kWideSingleRayLanes, coherent ? 0.0f : kIncoherentMinLaneUse};
+}
 
 template <std::size_t Width, std::size_t BlockSize>
 template <TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
 void WideBvh<Width, BlockSize>::intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters,
                                           int single_ray_lanes) const {
-    if (single_ray_lanes == kDefaultSingleRayLanes) single_ray_lanes = kWideSingleRayLanes;
-    traverse_packet<false, Test, Slabs>(rays, hits, counters, single_ray_lanes);
+    traverse_packet<false, Test, Slabs>(rays, hits, counters, wide_packet_switch(rays, single_ray_lanes));
 }
 
 template <std::size_t Width, std::size_t BlockSize>
 template <TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
 typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::occluded(const RayPacket<Arch>& rays, Counters& counters,
                                                                    int single_ray_lanes) const {
-    if (single_ray_lanes == kDefaultSingleRayLanes) single_ray_lanes = kWideSingleRayLanes;
     HitPacket<Arch> limits(rays);
-    return traverse_packet<true, Test, Slabs>(rays, limits, counters, single_ray_lanes);
+    return traverse_packet<true, Test, Slabs>(rays, limits, counters, wide_packet_switch(rays, single_ray_lanes));
 }
 
 template <std::size_t Width, std::size_t BlockSize>
@@ -164,12 +200,12 @@ typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::trace_singly(const Ray
 
 template <std::size_t Width, std::size_t BlockSize>
 template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
-TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traverse_packet(const RayPacket<Arch>& rays,
-                                                                                          HitPacket<Arch>& hits,
-                                                                                          Counters& counters,
-                                                                                          int single_ray_lanes) const {
+TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traverse_packet(
+    const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters, bvh::PacketSwitch to_single_rays) const {
     using Float = typename RayPacket<Arch>::Float;
     using Mask = typename RayPacket<Arch>::Mask;
+    const int single_ray_lanes = to_single_rays.single_ray_lanes;
+    const bool counts_lane_use = to_single_rays.min_lane_use > 0.0f;
     assert(single_ray_lanes >= 0 && std::size_t(single_ray_lanes) <= RayPacket<Arch>::width);
 
     const Mask live = rays.active & (rays.tmin <= rays.tmax);
@@ -198,9 +234,11 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
     bvh::ChildRef current = bvh::ChildRef::node(0);
     Mask lanes = live;
     for (;;) {
+        // Lanes that walk the current subtree alone; one call site, as the single-ray walk is
+        // flattened into it.
+        std::uint32_t alone = 0;
         if (simd::active_lane_count(lanes) <= single_ray_lanes) {
-            blocked =
-                blocked | trace_singly<AnyHit, Test, Slabs>(rays, simd::mask_bits(lanes), current, hits, counters);
+            alone = simd::mask_bits(lanes);
         } else if (!current.is_leaf()) {
             const Node& node = nodes_[current.node_index()];
             counters.visit_node();
@@ -212,11 +250,18 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
             // entry), farthest first: the nearest ends on top and is popped next.
             const std::size_t base = stack_size;
             std::array<float, Width> keys;  // of stack entries base, base + 1, ...
+            int lane_entries = 0, children_entered = 0;
+            Mask entering(false);
             for (; candidates != 0; candidates &= candidates - 1) {
                 const std::size_t k = std::countr_zero(candidates);
                 if (node.child[k].is_empty()) break;  // the used slots come first
                 const auto [enters, t] = bvh::lanes_entering<Slabs>(node, k, rays, hits, lanes, shared_rows);
                 if (!xsimd::any(enters)) continue;
+                if (counts_lane_use) {
+                    lane_entries += simd::active_lane_count(enters);
+                    ++children_entered;
+                    entering = entering | enters;
+                }
                 const float key = group ? entry_lo[k] : simd::horizontal_min(t);
                 std::size_t i = stack_size++;
                 for (; i > base && keys[i - 1 - base] < key; --i) {
@@ -230,6 +275,12 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
                 prefetch(node.child[k]);
             }
             assert(stack_size <= kStackSize);
+            if (counts_lane_use && children_entered > 1 &&
+                float(lane_entries) <
+                    to_single_rays.min_lane_use * float(children_entered * simd::active_lane_count(entering))) {
+                stack_size = base;  // the lanes walk the node again alone, each in its own order
+                alone = simd::mask_bits(entering);
+            }
         } else {
             std::uint32_t remaining = current.triangle_count();
             for (std::uint32_t b = current.first_block(); remaining != 0; ++b) {
@@ -243,6 +294,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
             }
             if (group) group_t_max = largest_t();
         }
+        if (alone != 0) blocked = blocked | trace_singly<AnyHit, Test, Slabs>(rays, alone, current, hits, counters);
         for (;;) {  // pop the next node some lane still needs
             if (stack_size == 0) return blocked;
             --stack_size;

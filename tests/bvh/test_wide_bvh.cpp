@@ -1,17 +1,19 @@
 // The wide BVH (accel/bvh/wide_bvh.h) at each width and block size it ships: its layout holds
-// every triangle with area once (and no zero-area one) with its exact corners inside its boxes; single rays find the binary BVH's
-// closest t bit for bit and the double-precision reference's hits; any hit agrees with closest
-// hit; and packets of every width give each lane the wide single ray's hit bit for bit (the tie
-// rule makes the answer independent of the visiting order, so no tie is allowed).
+// every triangle with area once (and no zero-area one) with its exact corners inside its boxes; single rays find the
+// binary BVH's closest t bit for bit and the double-precision reference's hits; any hit agrees with closest hit; and
+// packets of every width give each lane the wide single ray's hit bit for bit (the tie rule makes the answer
+// independent of the visiting order, so no tie is allowed).
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <random>
 #include <span>
 #include <vector>
 
 #include "accel/bvh/wide_bvh.h"
+#include "accel/bvh/wide_packet.h"
 #include "bvh_test_helpers.h"
 #include "simd/each_arch.h"
 #include "support/packet_agreement.h"
@@ -79,8 +81,8 @@ void check_layout(const WideBvh<Width, BlockSize>& wide, const Mesh& mesh) {
                     ++seen[block.id[i]];
                     ++references;
                     for (std::uint32_t earlier = 0; earlier < lane; ++earlier)
-                        repeated_in_leaf += blocks[ref.first_block() + earlier / BlockSize].id[earlier % BlockSize] ==
-                                            block.id[i];
+                        repeated_in_leaf +=
+                            blocks[ref.first_block() + earlier / BlockSize].id[earlier % BlockSize] == block.id[i];
                 } else {  // padding repeats the leaf's last triangle
                     const auto& last = blocks[ref.first_block() + (ref.triangle_count() - 1) / BlockSize];
                     padding_differs += block.id[i] != last.id[(ref.triangle_count() - 1) % BlockSize];
@@ -143,15 +145,15 @@ void check_single_rays(const WideBvh<Width, BlockSize>& wide, const Bvh& binary,
     }
 }
 
-/// Packets of every width this machine runs, with the single-ray switch off, at 1 lane and at
-/// every lane, against the wide single ray; no tie allowed.
+/// Packets of every width this machine runs, with the single-ray switch off, at 1 lane, at every
+/// lane and at the structure's own choice, against the wide single ray; no tie allowed.
 template <std::size_t Width, std::size_t BlockSize, TriangleTest Test = TriangleTest::watertight,
           SlabTest Slabs = SlabTest::robust>
 void check_packets(const WideBvh<Width, BlockSize>& wide, std::span<const Ray> rays, const LaneFilter& off = {}) {
     NoCounters none;
     for_each_packet_arch([&]<class Arch>() {
         constexpr int lanes = int(RayPacket<Arch>::width);
-        for (const int single_ray_lanes : {0, 1, lanes}) {
+        for (const int single_ray_lanes : {0, 1, lanes, kDefaultSingleRayLanes}) {
             CAPTURE(single_ray_lanes);
             const PacketVariant variant{.test = Test, .slabs = Slabs, .single_ray_lanes = single_ray_lanes};
             compare_packet_lanes<Arch>(
@@ -280,7 +282,9 @@ TEST_CASE("at equal t the lowest triangle id wins, whatever the order") {
     });
 }
 
-TEST_CASE("over spatial splits the wide tree keeps its layout, the binary tree's closest t, and packets equal to single rays") {
+TEST_CASE(
+    "over spatial splits the wide tree keeps its layout, the binary tree's closest t, and packets equal to single "
+    "rays") {
     const Mesh soup = soup_with_large_triangles(1500, 20, 61);
     BvhOptions spatial;
     spatial.builder = BvhBuilder::spatial_sah;
@@ -320,4 +324,35 @@ TEST_CASE("wide packets give every lane the wide single ray's hit bit for bit") 
     const Scene& teapot = builtin_scene("teapot");
     const std::vector<Ray> blocks = pixel_block_rays(teapot.camera, 320, 180, 4, 4, 200, 55);
     for_each_wide_tree(teapot.mesh, {}, [&](const auto& wide) { check_packets(wide, blocks); });
+}
+
+TEST_CASE(
+    "by default only a packet whose directions spread beyond the cone switches to single rays where its lanes part") {
+    for_each_packet_arch([&]<class Arch>() {
+        // Every lane along (1, 0, 0) but lane 1, turned by `degrees` in the xy plane, and scaled:
+        // the test takes directions of any length.
+        const auto packet_turned_by = [](float degrees, std::size_t live = RayPacket<Arch>::width) {
+            const float radians = degrees * 3.14159265f / 180.0f;
+            std::vector<Ray> rays(live, Ray{{0, 0, 0}, {2.0f, 0.0f, 0.0f}, 0.0f, kInfinity});
+            rays[1].dir = {0.5f * std::cos(radians), 0.5f * std::sin(radians), 0.0f};
+            return RayPacket<Arch>(std::span<const Ray>(rays));
+        };
+        CHECK(bvh::directions_within_cone(packet_turned_by(0.0f), kCoherentCosine));
+        CHECK(bvh::directions_within_cone(packet_turned_by(20.0f), kCoherentCosine));
+        CHECK_FALSE(bvh::directions_within_cone(packet_turned_by(40.0f), kCoherentCosine));
+        CHECK_FALSE(bvh::directions_within_cone(packet_turned_by(180.0f), kCoherentCosine));
+        const bvh::PacketSwitch coherent = wide_packet_switch(packet_turned_by(20.0f), kDefaultSingleRayLanes);
+        const bvh::PacketSwitch spread = wide_packet_switch(packet_turned_by(40.0f), kDefaultSingleRayLanes);
+        const bvh::PacketSwitch asked = wide_packet_switch(packet_turned_by(40.0f), 3);
+        CHECK(coherent.single_ray_lanes == kWideSingleRayLanes);
+        CHECK(coherent.min_lane_use == 0.0f);
+        CHECK(spread.single_ray_lanes == kWideSingleRayLanes);
+        CHECK(spread.min_lane_use == kIncoherentMinLaneUse);
+        CHECK(asked.single_ray_lanes == 3);
+        CHECK(asked.min_lane_use == 0.0f);
+        // Two lanes opposite each other sum to nothing: no axis, no cone.
+        CHECK_FALSE(bvh::directions_within_cone(packet_turned_by(180.0f, 2), kCoherentCosine));
+        // Lanes past the rays copy the first ray and count for nothing.
+        CHECK(bvh::directions_within_cone(packet_turned_by(20.0f, 2), kCoherentCosine));
+    });
 }
