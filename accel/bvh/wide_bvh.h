@@ -171,11 +171,9 @@ Hit WideBvh<Width, BlockSize>::traverse(const Ray& ray, bvh::ChildRef start, Hit
                     current = node.child[first];
                     continue;
                 }
-                if constexpr (AnyHit) {  // no order: any hit ends the walk
-                    for (; entered != 0; entered &= entered - 1) {
-                        const int k = std::countr_zero(entered);
-                        stack[stack_size++] = {node.child[k], t_entry[k]};
-                    }
+                if constexpr (AnyHit) {  // no order, no distances: any hit ends the walk
+                    for (; entered != 0; entered &= entered - 1)
+                        stack[stack_size++] = {node.child[std::countr_zero(entered)], 0.0f};
                 } else {
                     // Insertion sort of the entered children, farthest first, onto the stack;
                     // the nearest becomes the next node.
@@ -225,7 +223,8 @@ Hit WideBvh<Width, BlockSize>::traverse(const Ray& ray, bvh::ChildRef start, Hit
         for (;;) {  // pop the next node that can still hold a closer hit
             if (stack_size == 0) return best;
             const StackEntry& entry = stack[--stack_size];
-            if (entry.t_entry <= bvh::prune_limit(best.t)) {
+            // Any hit: every entry was entered below the ray's tmax, which no hit has shortened.
+            if (AnyHit || entry.t_entry <= bvh::prune_limit(best.t)) {
                 current = entry.ref;
                 break;
             }
