@@ -16,7 +16,8 @@
 #              ours against Embree, build time, memory, error, the study's question for primary rays.
 #   ray_kinds  primary, shadow and diffuse rays of the same scenes at 960x540 (a quarter of the rays:
 #              the diffuse rows are the run's slowest), the same traversals, threads and Embree calls:
-#              the study's question per ray kind, shadow and diffuse rays against Embree.
+#              the study's question per ray kind, shadow and diffuse rays against Embree, and shadow
+#              rays' any hit against closest hit (--paired closest).
 #   portable   the portable build (build-portable/, what `run.sh test` and users get) against this
 #              native one on the same rays, in pairs seconds apart (bench/compare_builds.py): the
 #              built-in scenes, every structure, width and ray kind, one thread.
@@ -91,7 +92,7 @@ step primary $bench --scenes $scenes "${only[@]}" --rays primary --simd scalar,s
     --embree 1,8,16 --paired scalar,bvh,embree "${primary_size[@]}" "${repeats[@]}" --quiet \
     --json $out/primary.json --markdown $out/primary.md --csv $out/primary.csv
 step ray_kinds $bench --scenes $scenes "${only[@]}" --rays primary,shadow,diffuse --simd scalar,simd8,simd16 \
-    --threads 1,2 --embree 1,8,16 --paired bvh,embree "${secondary_size[@]}" "${repeats[@]}" --quiet \
+    --threads 1,2 --embree 1,8,16 --paired bvh,embree,closest "${secondary_size[@]}" "${repeats[@]}" --quiet \
     --json $out/ray_kinds.json --markdown $out/ray_kinds.md --csv $out/ray_kinds.csv
 step portable $python bench/compare_builds.py build-portable/trident-bench $bench --rounds $portable_rounds \
     --each-scene $portable_scenes --each-accel bvh,bvh2,kdtree,octree --json $out/portable.json \
