@@ -350,7 +350,7 @@ TEST_CASE(
         CHECK(spread.min_lane_use == kIncoherentMinLaneUse);
         CHECK(asked.single_ray_lanes == 3);
         CHECK(asked.min_lane_use == 0.0f);
-        // Two lanes opposite each other sum to nothing: no axis, no cone.
+        // Two lanes opposite each other: the second lies outside every cone around the first.
         CHECK_FALSE(bvh::directions_within_cone(packet_turned_by(180.0f, 2), kCoherentCosine));
         // Lanes past the rays copy the first ray and count for nothing.
         CHECK(bvh::directions_within_cone(packet_turned_by(20.0f, 2), kCoherentCosine));
