@@ -39,8 +39,8 @@ def load_scene(name, manifest):
     return scene["vertices"], scene["triangles"], scene["camera"], ["--only", name]
 
 
-def bench_render_ms(args, scene_args, accel, traversal, threads, dump_dir=None):
-    """trident-bench's median render time of one configuration."""
+def bench_render_ms(args, scene_args, accel, traversal, threads, dump_dir=None, report=None):
+    """trident-bench's median render time of one configuration; its JSON's machine into `report`."""
     with tempfile.TemporaryDirectory() as tmp:
         out = pathlib.Path(tmp) / "row.json"
         command = [str(args.bench), *scene_args, "--accel", accel, "--simd", traversal, "--threads", str(threads),
@@ -49,7 +49,10 @@ def bench_render_ms(args, scene_args, accel, traversal, threads, dump_dir=None):
         if dump_dir:
             command += ["--dump-hits", str(dump_dir)]
         subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
-        (row,) = json.loads(out.read_text())["rows"]
+        data = json.loads(out.read_text())
+        if report is not None:
+            report["machine"] = data["machine"]
+        (row,) = data["rows"]
         return row["render_ms"]
 
 
@@ -96,7 +99,7 @@ def main():
     else:
         names = ["teapot"]
     thread_count = args.threads or len(os.sched_getaffinity(0))
-    rows = []
+    rows, report = [], {}
     print(f"{args.width}x{args.height}, {args.repeats} runs per side and round, {args.rounds} rounds; "
           f"trident {trident.__file__}", flush=True)
     print("| scene | structure | traversal | threads | C++ render ms | module intersect ms | module / C++ "
@@ -111,7 +114,7 @@ def main():
                 differing = differing_hits(args, scene_args, scene, rays, accel, traversal, thread_count)
                 cpp, module, ratios = [], [], []
                 for _ in range(args.rounds):
-                    cpp.append(bench_render_ms(args, scene_args, accel, traversal, thread_count))
+                    cpp.append(bench_render_ms(args, scene_args, accel, traversal, thread_count, report=report))
                     module.append(module_render_ms(scene, rays, TRAVERSALS[traversal], thread_count, args.repeats))
                     ratios.append(module[-1] / cpp[-1])
                 row = dict(scene=name, structure=accel, traversal=traversal, threads=thread_count,
@@ -123,7 +126,9 @@ def main():
                       f"{row['module_intersect_ms']:.2f} | {row['ratio']:.3f} ({min(ratios):.3f}..{max(ratios):.3f}) "
                       f"| {differing} |", flush=True)
     if args.json:
-        args.json.write_text(json.dumps({"command": sys.argv, "rows": rows}, indent=1))
+        args.json.write_text(json.dumps({"command": sys.argv, "width": args.width, "height": args.height,
+                                         "rounds": args.rounds, "repeats": args.repeats, **report, "rows": rows},
+                                        indent=1))
     return 1 if any(r["differing_hits"] for r in rows) else 0
 
 

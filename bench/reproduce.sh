@@ -21,6 +21,8 @@
 #   portable   the portable build (build-portable/, what `run.sh test` and users get) against this
 #              native one on the same rays, in pairs seconds apart (bench/compare_builds.py): the
 #              built-in scenes, every structure, width and ray kind, one thread.
+#   python     the Python module's scene.intersect on camera_rays against trident-bench's render of the
+#              same rays, same structure and traversal, two threads, in pairs (bench/python_bench.py).
 #   setup      `bash run.sh test` and `bash run.sh bench`, each from a clean clone of this commit
 #              (bench/time_setup.sh): what a newcomer waits, on this machine.
 # The trials behind the figures (older runs, other machines, sweeps) are in bench/experiments/.
@@ -34,6 +36,7 @@ python=/usr/bin/python3  # Debian's, which has matplotlib
 
 only=() repeats=() primary_size=(--width 1920 --height 1080) secondary_size=(--width 960 --height 540)
 portable_scenes=teapot,asteroid,hall portable_rounds=3 portable_size=(--width 640 --height 360) setup=yes
+python_args=(--rounds 3)
 placeholder=""
 case "${1:-}" in
     "") ;;
@@ -41,11 +44,12 @@ case "${1:-}" in
         only=(--only teapot,sponza) repeats=(--repeats 1)
         primary_size=(--width 160 --height 90) secondary_size=(--width 160 --height 90)
         portable_scenes=teapot portable_rounds=1 portable_size=(--width 160 --height 90) setup=""
+        python_args=(--only teapot,sponza --width 160 --height 90 --rounds 1 --repeats 1)
         placeholder="Made by \`bash bench/reproduce.sh --quick\` (Teapot and Sponza at 160x90, one timed run each)."
         ;;
     --only)
         # The full settings on a few scenes, for a run set that must fit a short window.
-        only=(--only "${2:?--only needs a comma-separated list of scenes}")
+        only=(--only "${2:?--only needs a comma-separated list of scenes}") python_args=(--only "$2" --rounds 3)
         placeholder="Made by \`bash bench/reproduce.sh --only $2\`: the full settings on these scenes only."
         ;;
     *) echo "reproduce.sh: unknown option '$1' (expected nothing, --quick or --only SCENES)" >&2; exit 2 ;;
@@ -72,7 +76,7 @@ step() {
 # The binary measured is built from this tree for this machine, as `run.sh bench` builds it (Release,
 # -march=native: the figures are this CPU's; the portable build's cost is in experiments/portable_build.md).
 cmake -S . -B build-native -G Ninja -DCMAKE_BUILD_TYPE=Release -DTRIDENT_MARCH=native > /dev/null
-cmake --build build-native -j2 --target trident-bench > /dev/null
+cmake --build build-native -j2 --target trident-bench trident_python > /dev/null
 cmake -S . -B build-portable -G Ninja -DCMAKE_BUILD_TYPE=Release -DTRIDENT_MARCH=portable > /dev/null
 cmake --build build-portable -j2 --target trident-bench > /dev/null
 commit=$(git rev-parse --short HEAD)
@@ -98,6 +102,10 @@ step portable $python bench/compare_builds.py build-portable/trident-bench $benc
     --each-scene $portable_scenes --each-accel bvh,bvh2,kdtree,octree --json $out/portable.json \
     --markdown $out/portable.md -- --simd scalar,simd4,simd8,simd16 --rays primary,shadow,diffuse --threads 1 \
     --embree none "${portable_size[@]}"
+# The Python module against the C++ renderer on the same rays (issue 33), both from build-native.
+step python env PYTHONPATH=build-native/python $python bench/python_bench.py --bench $bench --scenes $scenes \
+    --accel bvh,kdtree,octree --simd scalar,simd8,simd16 --threads 2 --repeats 3 "${python_args[@]}" \
+    --json $out/python.json
 # Charts: the study's Figures 17 and 18 and the rest for primary rays, and the fastest traversal
 # per structure for each ray kind.
 step charts_primary $python bench/plot.py $out/primary.json --out $charts
@@ -126,7 +134,7 @@ for chart in chart_paths:
 run = {"commit": commit, "dirty": dirty != "0", "date": date, "steps": steps,
        "runs": [{"name": "primary", "json": "primary.json"}, {"name": "ray_kinds", "json": "ray_kinds.json"}],
        "charts": charts}
-for name in ("portable", "setup"):
+for name in ("portable", "setup", "python"):
     if os.path.exists(os.path.join(os.path.dirname(manifest), name + ".json")):
         run[name] = name + ".json"
 if placeholder:

@@ -157,6 +157,8 @@ class RunSet:
         # times of run.sh (bench/time_setup.sh): optional, and of the same machine when present.
         self.portable = self.extra("portable", lambda data: data["machine"]["cpu"])
         self.setup = self.extra("setup", lambda data: data["cpu"])
+        # The Python module against the C++ renderer (bench/python_bench.py).
+        self.python = self.extra("python", lambda data: data["machine"]["cpu"])
 
     def extra(self, key, cpu_of):
         if key not in self.manifest:
@@ -374,6 +376,34 @@ def portable_section(runs):
     return out
 
 
+def python_section(runs):
+    data = runs.python
+    out = ["## The Python module against the C++ renderer", ""]
+    if data is None:
+        return out + ["Not measured by this run set (its `python` step did not run)."]
+    rows = data["rows"]
+    differing = sum(r["differing_hits"] for r in rows)
+    out += ["`scene.intersect(rays)` of the Python module on `trident.camera_rays(...)` of BENCHMARK.md's camera "
+            "against trident-bench's render of the same rays, same structure and traversal, {} ({}x{}): in each of "
+            "{}, trident-bench's median of {} renders, then the module's median of as many calls. A cell: the "
+            "medians over rounds of the module's time over the C++ one, lowest–highest over the scenes, then their "
+            "median. The module's hits equal trident-bench's hit buffer, triangle and t, on every row ({} "
+            "differing). Command: `{}`.".format(
+                plural(rows[0]["threads"], "thread"), data["width"], data["height"], plural(data["rounds"], "round"),
+                data["repeats"], differing, step_command(runs, "python") or "-"), ""]
+    structures = ordered([r["structure"] for r in rows], ["bvh", "bvh2", "kdtree", "octree"])
+    traversals = ordered([r["traversal"] for r in rows], TRAVERSAL_ORDER)
+    body = []
+    for s in structures:
+        cells = [name_of(s)]
+        for t in traversals:
+            ratios = [r["ratio"] for r in rows if r["structure"] == s and r["traversal"] == t]
+            cells.append("-" if not ratios else "{} ({})".format(span(ratios), two(statistics.median(ratios))))
+        body.append(cells)
+    out.append(table(["structure"] + list(traversals), body))
+    return out
+
+
 def setup_section(runs):
     out = ["## What a newcomer waits", ""]
     if runs.setup is None:
@@ -489,6 +519,8 @@ def target_rows(runs, spec, scene_kinds):
     if spec["measure"] == "portable_ratio":
         rows = [] if runs.portable is None else runs.portable["rows"]
         return None, [r for r in rows if all(r.get(k) == v for k, v in spec.get("rows", {}).items())]
+    if spec["measure"] == "python_ratio":
+        return None, [] if runs.python is None else runs.python["rows"]
     if spec["measure"] == "setup_seconds":
         commands = [] if runs.setup is None else runs.setup["commands"]
         return None, [dict(c, scene="`{}`".format(c["command"])) for c in commands if c["command"] == spec["command"]]
@@ -514,6 +546,8 @@ def measure(runs, spec, scene_kinds):
     for r in rows:
         if spec["measure"] == "portable_ratio":
             out.append((r, r["median"], True))
+        elif spec["measure"] == "python_ratio":
+            out.append((r, r["ratio"], True))
         elif spec["measure"] == "setup_seconds":
             out.append((r, r["seconds"], False))
         elif spec["measure"] == "value":
@@ -560,7 +594,7 @@ def meets(spec, value):
 
 def describe(values, spec):
     figures = [v for _, v, _ in values]
-    if spec["measure"] == "portable_ratio":
+    if spec["measure"] in ("portable_ratio", "python_ratio"):
         return "{} (paired)".format(span(figures))
     if spec["measure"] == "setup_seconds":
         return "{} s".format(span(figures, fmt))
@@ -624,7 +658,7 @@ def page(manifest_path, study_table_path, scenes_path, targets_path):
             "typed in. What was tried, kept or dropped, with the figures of older runs and machines, is in "
             "[experiments/](experiments/README.md), one file per topic.", ""]
     for section in (machine_section(runs), study_section(runs, study), embree_section(runs), build_section(runs),
-                    question_section(runs, study, scene_kinds), portable_section(runs), setup_section(runs),
+                    question_section(runs, study, scene_kinds), portable_section(runs), python_section(runs), setup_section(runs),
                     targets_section(runs, targets, scene_kinds)):
         out += section + [""]
     out += ["## Trials", "",

@@ -11,7 +11,6 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
-#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -21,168 +20,168 @@ namespace trident {
 
 namespace {
 
-// Runs of consecutive rays in a list, as ray_stream.cpp cuts its parallel streams.
-constexpr std::size_t kListChunkRays = 1024;
+// A list of rays is traced in rows of this many, as ray_stream.cpp cuts its parallel streams.
+constexpr std::uint32_t kListChunkRays = 1024;
 constexpr std::size_t kNoRay = std::numeric_limits<std::size_t>::max();
 
 std::size_t ceil_div(std::size_t a, std::size_t b) { return (a + b - 1) / b; }
 
 bool is_image(const RayArrays& rays) { return rays.rows > 1; }
 
-// An image's chunk is a band of whole tile rows: its rays lie in one run of the caller's arrays,
-// which the check reads front to back (the hardware prefetches that; single 16x16 tiles, 16 short
-// runs apart, took the check as long as the packets' own reads) and the packets then find in cache.
-std::size_t chunk_count(const RayArrays& rays) {
-    return is_image(rays) ? ceil_div(rays.rows, kRenderTileSize) : ceil_div(rays.size(), kListChunkRays);
+/// The batch as the image of rays the stream kernels trace: an image of rays as it is, a list cut
+/// into rows of kListChunkRays traced in runs of consecutive rays.
+RayImage ray_image(const RayArrays& rays) {
+    if (!is_image(rays)) return {.rays = rays.strided, .width = kListChunkRays, .runs = true};
+    if (rays.columns > std::numeric_limits<std::uint32_t>::max())
+        throw std::invalid_argument("ray batch: an image of rays is at most 2^32 - 1 columns wide");
+    return {.rays = rays.strided, .width = std::uint32_t(rays.columns)};
 }
 
-/// The positions [first, last) of chunk c's rays in the batch.
-std::pair<std::size_t, std::size_t> chunk_range(const RayArrays& rays, std::size_t c) {
-    const std::size_t run = is_image(rays) ? kRenderTileSize * rays.columns : kListChunkRays;
-    return {c * run, std::min(rays.size(), (c + 1) * run)};
+/// The tiles the threads share: an image's 16x16 tiles row-major, as the renderer's
+/// (render/image_tiles.h), or a list's rows of kListChunkRays, a tile each. Bands of whole tile
+/// rows, when the rays were checked in a pass of their own, left Teapot's two threads 3% apart.
+std::size_t tile_count(const RayArrays& rays) {
+    if (!is_image(rays)) return ceil_div(rays.size(), kListChunkRays);
+    return ceil_div(rays.rows, kRenderTileSize) * ceil_div(rays.columns, kRenderTileSize);
 }
 
-/// The rays of one chunk: their positions in the batch in the order the stream packs them and, when
-/// they are not traced in place (`gathered`), copied out of the caller's arrays.
-struct Chunk {
-    std::vector<std::size_t> index;
-    bool gathered = false;
-    std::vector<Ray> rays;
-};
-
-/// Chunk `c`'s ray positions in the order they are traced: a list's run, or a band's tiles left to
-/// right, each tile's pixels packet block by packet block (the renderer's PrimaryBlock lanes: block
-/// rows top down, lanes row-major inside a block). Where the image's edge cuts a block, the stream
-/// fills the packet with the next block's rays.
-void order_chunk(const RayArrays& rays, std::size_t lanes, std::size_t c, std::vector<std::size_t>& index) {
-    index.clear();
-    const auto [first, last] = chunk_range(rays, c);
-    if (!is_image(rays)) {
-        for (std::size_t i = first; i < last; ++i) index.push_back(i);
-        return;
-    }
-    const auto [block_width, block_height] = lanes >= 4 ? packet_block(lanes) : std::pair{1u, 1u};
-    const std::size_t y0 = first / rays.columns, y1 = last / rays.columns;
-    for (std::size_t x0 = 0; x0 < rays.columns; x0 += kRenderTileSize) {
-        const std::size_t x1 = std::min(x0 + kRenderTileSize, rays.columns);
-        for (std::size_t by = y0; by < y1; by += block_height)
-            for (std::size_t bx = x0; bx < x1; bx += block_width)
-                for (std::size_t y = by; y < std::min<std::size_t>(by + block_height, y1); ++y)
-                    for (std::size_t x = bx; x < std::min<std::size_t>(bx + block_width, x1); ++x)
-                        index.push_back(y * rays.columns + x);
-    }
+ImageTile tile_at(const RayArrays& rays, std::size_t t) {
+    if (!is_image(rays))
+        return {0, std::uint32_t(t),
+                std::uint32_t(std::min<std::size_t>(rays.size() - t * kListChunkRays, kListChunkRays)),
+                std::uint32_t(t + 1)};
+    const std::size_t across = ceil_div(rays.columns, kRenderTileSize);
+    const auto x0 = std::uint32_t(t % across * kRenderTileSize), y0 = std::uint32_t(t / across * kRenderTileSize);
+    return {x0, y0, std::uint32_t(std::min<std::size_t>(x0 + kRenderTileSize, rays.columns)),
+            std::uint32_t(std::min<std::size_t>(y0 + kRenderTileSize, rays.rows))};
 }
 
-bool is_traceable(const Ray& ray) {
-    return is_finite(ray.origin) && is_finite(ray.dir) && dot(ray.dir, ray.dir) > 0.0f;
-}
-
-/// per_chunk(Chunk&) over every chunk on `traversal.threads` threads. With `gather`, a chunk whose
-/// rays are all traceable is traced in place (chunk.gathered); otherwise its rays are copied, and
-/// one that cannot be traced gets tmax = -inf, which the stream skips. The first such ray is
-/// reported once all are done.
-template <class PerChunk>
-void for_each_chunk(const RayArrays& rays, BatchTraversal traversal, bool gather, PerChunk&& per_chunk) {
-    std::atomic<std::size_t> first_bad{kNoRay};
+/// per_tile(tile, t) for every tile on `traversal.threads` threads.
+template <class PerTile>
+void for_each_tile(const RayArrays& rays, BatchTraversal traversal, PerTile&& per_tile) {
     const int threads = traversal.threads > 0 ? traversal.threads : tbb::info::default_concurrency();
-    gather = gather && rays.strided.tmin < rays.strided.tmax;
     tbb::task_arena arena(threads);
     arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunk_count(rays)), [&](const auto& range) {
-            Chunk chunk;
-            for (std::size_t c = range.begin(); c != range.end(); ++c) {
-                order_chunk(rays, lane_count(traversal.width), c, chunk.index);
-                bool all_traceable = true;
-                const auto [first, last] = chunk_range(rays, c);
-                for (std::size_t i = first; i < last; ++i) {
-                    if (is_traceable(rays.ray(i))) continue;
-                    all_traceable = false;
-                    std::size_t seen = first_bad.load();
-                    while (i < seen && !first_bad.compare_exchange_weak(seen, i)) {
-                    }
-                }
-                chunk.gathered = gather && all_traceable;
-                if (!chunk.gathered) {
-                    chunk.rays.resize(chunk.index.size());
-                    for (std::size_t k = 0; k < chunk.index.size(); ++k) {
-                        chunk.rays[k] = rays.ray(chunk.index[k]);
-                        if (!is_traceable(chunk.rays[k])) chunk.rays[k].tmax = -kInfinity;
-                    }
-                }
-                per_chunk(chunk);
-            }
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tile_count(rays)), [&](const auto& range) {
+            for (std::size_t t = range.begin(); t != range.end(); ++t) per_tile(tile_at(rays, t), t);
         });
     });
-    if (const std::size_t bad = first_bad.load(); bad != kNoRay)
-        throw std::invalid_argument(
-            fmt::format("ray {}: the origin or the direction is not finite, or the direction is zero", bad));
+}
+
+/// The rays that cannot be traced (is_traceable): each tile's first noted, the batch's first
+/// reported.
+class UntraceableRays {
+public:
+    void note_first_in(const RayImage& image, const ImageTile& tile) {
+        // Row-major, so the tile's first found is its lowest.
+        for (std::uint32_t y = tile.y0; y != tile.y1; ++y)
+            for (std::uint32_t x = tile.x0; x != tile.x1; ++x) {
+                const std::size_t i = image.index(x, y);
+                if (is_traceable(image.rays.ray(i))) continue;
+                std::size_t seen = first_.load();
+                while (i < seen && !first_.compare_exchange_weak(seen, i)) {
+                }
+                return;
+            }
+    }
+
+    void throw_if_any() const {
+        if (const std::size_t bad = first_.load(); bad != kNoRay)
+            throw std::invalid_argument(
+                fmt::format("ray {}: the origin or the direction is not finite, or the direction is zero", bad));
+    }
+
+private:
+    std::atomic<std::size_t> first_{kNoRay};
+};
+
+/// One result per ray at its position in `out`, the rays read in place and traced tile by tile by
+/// trace_tile(image, tile, out) (ray_stream.h's array tiles). A batch whose rays share an empty
+/// [tmin, tmax] traces nothing: every result is a miss, once its rays are checked.
+template <class Result, class TraceTile>
+void trace_tiles(const RayArrays& rays, std::span<Result> out, BatchTraversal traversal, TraceTile&& trace_tile) {
+    if (out.size() != rays.size()) throw std::invalid_argument("ray batch: one result per ray is needed");
+    const RayImage image = ray_image(rays);
+    UntraceableRays untraceable;
+    if (!(rays.strided.tmin < rays.strided.tmax)) {
+        for_each_tile(rays, traversal,
+                      [&](const ImageTile& tile, std::size_t) { untraceable.note_first_in(image, tile); });
+        untraceable.throw_if_any();
+        std::fill(out.begin(), out.end(), Result{});
+        return;
+    }
+    const std::size_t tiles = tile_count(rays);
+    for_each_tile(rays, traversal, [&](const ImageTile& tile, std::size_t t) {
+        if (t + 1 < tiles) prefetch_tile(image, tile_at(rays, t + 1));
+        // A tile stops at its first packet with a ray that cannot be traced: the batch fails anyway.
+        if (!trace_tile(image, tile, out.data())) untraceable.note_first_in(image, tile);
+    });
+    untraceable.throw_if_any();
+}
+
+/// The tile's ray positions in the order a list of them is traced: packet block by packet block
+/// (the renderer's PrimaryBlock lanes: block rows top down, lanes row-major inside a block), a
+/// list's row in runs. Where the image's edge cuts a block, the list's packet takes the next
+/// block's rays too.
+void order_tile(const RayImage& image, const ImageTile& tile, std::size_t lanes, std::vector<std::size_t>& index) {
+    index.clear();
+    const auto [block_width, block_height] = lanes >= 4 ? image.block(lanes) : std::pair{1u, 1u};
+    for (std::uint32_t by = tile.y0; by < tile.y1; by += block_height)
+        for (std::uint32_t bx = tile.x0; bx < tile.x1; bx += block_width)
+            for (std::uint32_t y = by; y < std::min(by + block_height, tile.y1); ++y)
+                for (std::uint32_t x = bx; x < std::min(bx + block_width, tile.x1); ++x)
+                    index.push_back(image.index(x, y));
 }
 
 StreamTraversal stream_traversal(BatchTraversal traversal) {
     return {traversal.width, PacketGrouping::in_order, SlabTest::robust};
 }
 
-/// Each chunk's rays traced into one result per ray at the rays' positions in `out`: in place by
-/// trace_gathered(strided rays, positions, out) where the chunk allows it, else by
-/// trace_list(rays, results) on a copy (trace_list may change the rays), the results then
-/// written to the rays' positions. Without trace_gathered every chunk is copied.
-template <class Result, class TraceList, class TraceGathered = std::nullptr_t>
-void trace_chunks(const RayArrays& rays, std::span<Result> out, BatchTraversal traversal, TraceList&& trace_list,
-                  TraceGathered&& trace_gathered = nullptr) {
-    if (out.size() != rays.size()) throw std::invalid_argument("ray batch: one result per ray is needed");
-    constexpr bool kGather = !std::is_same_v<std::decay_t<TraceGathered>, std::nullptr_t>;
-    for_each_chunk(rays, traversal, kGather, [&](Chunk& chunk) {
-        if constexpr (kGather) {
-            if (chunk.gathered) return trace_gathered(rays.strided, std::span<const std::size_t>(chunk.index), out);
-        }
-        thread_local std::vector<Result> results;
-        results.assign(chunk.rays.size(), Result{});
-        trace_list(chunk.rays, std::span<Result>(results));
-        for (std::size_t k = 0; k < chunk.index.size(); ++k) out[chunk.index[k]] = results[k];
-    });
-}
-
 }  // namespace
 
 void intersect_batch(const AnyAccel& accel, const RayArrays& rays, std::span<Hit> hits, BatchTraversal traversal) {
-    trace_chunks(
-        rays, hits, traversal,
-        [&](const std::vector<Ray>& chunk_rays, std::span<Hit> chunk_hits) {
-            intersect_stream(accel, chunk_rays, chunk_hits, stream_traversal(traversal));
-        },
-        [&](const StridedRays& strided, std::span<const std::size_t> order, std::span<Hit> out) {
-            intersect_stream(accel, strided, order, out, stream_traversal(traversal));
-        });
+    trace_tiles(rays, hits, traversal, [&](const RayImage& image, const ImageTile& tile, Hit* out) {
+        return intersect_array_tile(accel, image, tile, out, stream_traversal(traversal));
+    });
 }
 
 void occluded_batch(const AnyAccel& accel, const RayArrays& rays, std::span<std::uint8_t> occluded,
                     BatchTraversal traversal) {
-    trace_chunks(
-        rays, occluded, traversal,
-        [&](const std::vector<Ray>& chunk_rays, std::span<std::uint8_t> chunk_occluded) {
-            occlude_stream(accel, chunk_rays, chunk_occluded, stream_traversal(traversal));
-        },
-        [&](const StridedRays& strided, std::span<const std::size_t> order, std::span<std::uint8_t> out) {
-            occlude_stream(accel, strided, order, out, stream_traversal(traversal));
-        });
+    trace_tiles(rays, occluded, traversal, [&](const RayImage& image, const ImageTile& tile, std::uint8_t* out) {
+        return occlude_array_tile(accel, image, tile, out, stream_traversal(traversal));
+    });
 }
 
 void count_hits_batch(const AnyAccel& accel, const RayArrays& rays, std::span<std::int32_t> counts,
                       BatchTraversal traversal) {
-    trace_chunks(rays, counts, traversal, [&](std::vector<Ray>& chunk_rays, std::span<std::int32_t> chunk_counts) {
-        std::vector<Hit> hits(chunk_rays.size());
+    if (counts.size() != rays.size()) throw std::invalid_argument("ray batch: one result per ray is needed");
+    const RayImage image = ray_image(rays);
+    UntraceableRays untraceable;
+    for_each_tile(rays, traversal, [&](const ImageTile& tile, std::size_t) {
+        // The tile's rays copied into a list, in packet order: each round moves every ray's tmin.
+        std::vector<std::size_t> index;
+        order_tile(image, tile, lane_count(traversal.width), index);
+        std::vector<Ray> tile_rays(index.size());
+        for (std::size_t k = 0; k < index.size(); ++k) {
+            tile_rays[k] = rays.ray(index[k]);
+            if (!is_traceable(tile_rays[k])) return untraceable.note_first_in(image, tile);
+        }
+        std::vector<std::int32_t> tile_counts(index.size(), 0);
+        std::vector<Hit> hits(index.size());
         // Each round's t is strictly past the last (a hit needs tmin <= t), so a ray ends after at
         // most as many rounds as there are triangles; a ray that missed gets tmin = +inf and is skipped.
         for (bool any_hit = true; any_hit;) {
             any_hit = false;
-            intersect_stream(accel, chunk_rays, hits, stream_traversal(traversal));
-            for (std::size_t k = 0; k < chunk_rays.size(); ++k) {
+            intersect_stream(accel, tile_rays, hits, stream_traversal(traversal));
+            for (std::size_t k = 0; k < tile_rays.size(); ++k) {
                 any_hit |= hits[k].is_hit();
-                chunk_counts[k] += hits[k].is_hit() ? 1 : 0;
-                chunk_rays[k].tmin = hits[k].is_hit() ? std::nextafter(hits[k].t, kInfinity) : kInfinity;
+                tile_counts[k] += hits[k].is_hit() ? 1 : 0;
+                tile_rays[k].tmin = hits[k].is_hit() ? std::nextafter(hits[k].t, kInfinity) : kInfinity;
             }
         }
+        for (std::size_t k = 0; k < index.size(); ++k) counts[index[k]] = tile_counts[k];
     });
+    untraceable.throw_if_any();
 }
 
 void contains_batch(const AnyAccel& accel, const float* points, std::size_t count, std::span<std::uint8_t> inside,
@@ -193,9 +192,10 @@ void contains_batch(const AnyAccel& accel, const float* points, std::size_t coun
         {0.4135f, 0.6789f, 0.6068f}, {-0.7127f, 0.2213f, -0.6659f}, {0.1874f, -0.9130f, 0.3624f}};
     auto crossings = [&](const float* origins, std::size_t n, const float* direction) {
         std::vector<std::int32_t> counts(n);
-        count_hits_batch(accel,
-                         RayArrays{.strided = {.origins = origins, .directions = direction, .direction_stride = 0}, .columns = n},
-                         counts, traversal);
+        count_hits_batch(
+            accel,
+            RayArrays{.strided = {.origins = origins, .directions = direction, .direction_stride = 0}, .columns = n},
+            counts, traversal);
         return counts;
     };
     const std::vector<std::int32_t> first = crossings(points, count, kDirections[0]);

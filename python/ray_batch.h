@@ -1,11 +1,10 @@
 #pragma once
 // Queries over a batch of rays the caller keeps in its own float arrays (numpy's, for the Python
 // module): origins and directions read in place through strides, results written straight into the
-// caller's buffers. Rays go through the renderer's ray-stream path (render/ray_stream.h) in chunks
-// that threads share: an image of rays (rows x columns) in bands of the renderer's 16x16 tiles,
-// each tile's rays in the order of its packet blocks (2x2, 4x2 or 4x4 pixels,
-// render/image_tiles.h), so that a packet holds the pixels the renderer's packet holds; a list of
-// rays in runs of consecutive rays.
+// caller's buffers. An image of rays (rows x columns) is traced as the renderer traces its primary
+// rays, in 16x16 tiles whose packets take blocks of 2x2, 4x2 or 4x4 pixels (render/image_tiles.h),
+// bands of tiles shared by the threads; a list of rays in runs of consecutive rays
+// (render/ray_stream.h's array tiles).
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -16,7 +15,7 @@
 
 namespace trident {
 
-/// A batch: where its rays lie in the caller's arrays (render/ray_stream.h) and how many there are.
+/// A batch: where its rays lie in the caller's arrays (render/ray_arrays.h) and how many there are.
 struct RayArrays {
     StridedRays strided;
     /// rows x columns rays, row-major: rows > 1 makes it an image traced in tiles.

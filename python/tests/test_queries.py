@@ -194,3 +194,51 @@ def test_load_obj_triangulates_in_file_order(tmp_path):
     np.testing.assert_array_equal(triangles[2], [0, 1, 4])
     hits = trident.Scene(vertices, triangles).intersect([[0.6, 0.3, 1.0, 0.0, 0.0, -1.0]])
     assert hits.triangle[0] in (0, 1) and hits.t[0] == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize("simd", WIDTHS)
+def test_an_image_of_rays_equals_the_list_at_every_width(soup_case, simd):
+    """Images are traced in tiles of packet blocks; 50 x 60 cuts blocks and tiles at its edges."""
+    vertices, triangles, origins, directions, _ = soup_case
+    scene = trident.Scene(vertices, triangles)
+    listed = scene.intersect(origins, directions, simd="scalar", threads=1)
+    image = scene.intersect(origins.reshape(50, 60, 3), directions.reshape(50, 60, 3), simd=simd, threads=2)
+    np.testing.assert_array_equal(image.triangle.ravel(), listed.triangle)
+    np.testing.assert_array_equal(image.t.ravel(), listed.t)
+    np.testing.assert_array_equal(image.u.ravel(), listed.u)
+    np.testing.assert_array_equal(
+        scene.occluded(origins.reshape(50, 60, 3), directions.reshape(50, 60, 3), simd=simd).ravel(),
+        scene.occluded(origins, directions, simd="scalar"))
+    # Rays as one (..., 6) array take the packets' own load of six-float rays where the block is full.
+    rays = np.concatenate([origins, directions], axis=1)
+    for shaped in (rays.reshape(50, 60, 6), rays):
+        packed = scene.intersect(shaped, simd=simd, threads=2)
+        np.testing.assert_array_equal(packed.triangle.ravel(), listed.triangle)
+        np.testing.assert_array_equal(packed.t.ravel(), listed.t)
+        np.testing.assert_array_equal(scene.occluded(shaped, simd=simd).ravel(),
+                                      scene.occluded(origins, directions, simd="scalar"))
+
+
+@pytest.mark.parametrize("simd", WIDTHS)
+def test_the_first_bad_ray_of_an_image_is_named(soup_case, simd):
+    """Each band of tiles stops at its first bad ray; the batch names the first of all."""
+    vertices, triangles, origins, directions, _ = soup_case
+    scene = trident.Scene(vertices, triangles)
+    rays = np.concatenate([origins, directions], axis=1).reshape(50, 60, 6).copy()
+    rays[40, 7, 1] = np.nan  # ray 2407, in a later band
+    rays[20, 59, 5] = np.inf  # ray 1259, at the right edge of a band
+    for query in (scene.intersect, scene.occluded, scene.count_hits):
+        with pytest.raises(ValueError, match="ray 1259: the origin or the direction is not finite"):
+            query(rays, simd=simd, threads=2)
+
+
+def test_an_empty_interval_traces_nothing_but_still_checks_the_rays(soup_case):
+    vertices, triangles, origins, directions, _ = soup_case
+    scene = trident.Scene(vertices, triangles)
+    assert (scene.intersect(origins, directions, tmin=2.0, tmax=1.0).triangle == -1).all()
+    assert not scene.occluded(origins, directions, tmin=1.0, tmax=1.0).any()
+    assert (scene.count_hits(origins, directions, tmin=2.0, tmax=1.0) == 0).all()
+    bad = directions.copy()
+    bad[11] = 0.0
+    with pytest.raises(ValueError, match="ray 11: "):
+        scene.intersect(origins, bad, tmin=2.0, tmax=1.0)

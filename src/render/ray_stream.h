@@ -1,7 +1,8 @@
 #pragma once
 // Tracing a list of secondary rays (shadow, ambient-occlusion, diffuse-bounce) on the calling
 // thread, one at a time or as packets, cut from the list in order or by direction octant
-// (stream_packets.h). Rays with tmax <= tmin are not traced: unoccluded, no hit.
+// (stream_packets.h). Rays with tmax <= tmin are not traced: unoccluded, no hit. And tracing rays
+// that stay in the caller's arrays (the Python module's), a tile of an image of them at a time.
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -9,6 +10,8 @@
 #include "accel/any_accel.h"
 #include "core/intersect_triangle.h"
 #include "core/slab_test.h"
+#include "render/image_tiles.h"
+#include "render/ray_arrays.h"
 #include "render/stream_packets.h"
 #include "simd/width.h"
 
@@ -30,39 +33,20 @@ void occlude_stream(const AnyAccel& accel, std::span<const Ray> rays, std::span<
 void intersect_stream(const AnyAccel& accel, std::span<const Ray> rays, std::span<Hit> hits, StreamTraversal traversal,
                       TriangleTest test = TriangleTest::watertight);
 
-/// Rays read where the caller keeps them (numpy's arrays, for the Python module): ray i's origin
-/// is origins[i * origin_stride + 0..2], its direction the same in `directions`; a stride of 0
-/// gives every ray the same origin (or direction). All share [tmin, tmax].
-struct StridedRays {
-    const float* origins = nullptr;
-    std::size_t origin_stride = 3;
-    const float* directions = nullptr;
-    std::size_t direction_stride = 3;
-    float tmin = 0.0f;
-    float tmax = kInfinity;
-
-    /// Inline: the Python module reads every ray through it twice (its check, the packet).
-    Ray ray(std::size_t i) const {
-        const float* o = origins + i * origin_stride;
-        const float* d = directions + i * direction_stride;
-        return Ray{{o[0], o[1], o[2]}, {d[0], d[1], d[2]}, tmin, tmax};
-    }
-};
-
-/// The rays rays.ray(order[k]) traced with their results written straight to position order[k]
-/// of `occluded` or `hits`, packets taking consecutive entries of `order` (so the caller decides
-/// which rays share a packet), without copying the rays into a list first. Every ray must be
-/// traceable: finite, a non-zero direction, tmin < tmax; the caller checks that.
-void occlude_stream(const AnyAccel& accel, const StridedRays& rays, std::span<const std::size_t> order,
-                    std::span<std::uint8_t> occluded, StreamTraversal traversal,
-                    TriangleTest test = TriangleTest::watertight);
-void intersect_stream(const AnyAccel& accel, const StridedRays& rays, std::span<const std::size_t> order,
-                      std::span<Hit> hits, StreamTraversal traversal, TriangleTest test = TriangleTest::watertight);
-
 /// The same over all cores, the list cut into chunks of consecutive rays.
 void occlude_stream_parallel(const AnyAccel& accel, std::span<const Ray> rays, std::span<std::uint8_t> occluded,
                              StreamTraversal traversal, TriangleTest test = TriangleTest::watertight);
 void intersect_stream_parallel(const AnyAccel& accel, std::span<const Ray> rays, std::span<Hit> hits,
                                StreamTraversal traversal, TriangleTest test = TriangleTest::watertight);
+
+/// The tile's rays of an image of rays in arrays (render/ray_arrays.h), traced as the renderer
+/// traces a tile of primary rays: packets of the traversal's width over the image's packet blocks,
+/// or single rays. Results go to out[image.index(x, y)]. False, some of the tile's results
+/// written, when one of its rays cannot be traced (is_traceable): the caller finds which. The
+/// rays' shared [tmin, tmax] must not be empty.
+bool occlude_array_tile(const AnyAccel& accel, const RayImage& image, const ImageTile& tile, std::uint8_t* out,
+                        StreamTraversal traversal, TriangleTest test = TriangleTest::watertight);
+bool intersect_array_tile(const AnyAccel& accel, const RayImage& image, const ImageTile& tile, Hit* out,
+                          StreamTraversal traversal, TriangleTest test = TriangleTest::watertight);
 
 }  // namespace trident

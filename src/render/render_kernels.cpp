@@ -6,6 +6,7 @@
 
 #include "accel/any_accel.h"
 #include "core/traversal_variant.h"
+#include "render/array_packets.h"
 #include "render/primary_packets.h"
 #include "render/stream_packets.h"
 #include "simd/kernel_arch.h"
@@ -84,6 +85,39 @@ std::uint32_t RenderKernels<Structure, Width, File>::occlude_rays(const Structur
     return simd::mask_bits(occlude_packet(structure, packet, counters, variant));
 }
 
+template <class Structure, SimdWidth Width, SimdWidth File>
+bool RenderKernels<Structure, Width, File>::intersect_array_tile(const Structure& structure, const RayImage& image,
+                                                                 const ImageTile& tile, Hit* out,
+                                                                 PacketVariant variant) {
+    static_assert(kDefinedHere<Width, File>);
+    const ArrayTile<PacketArchInFile<Width>> blocks(image, tile);
+    return blocks.for_each_block([&](const auto& packet, const auto& block) {
+        HitPacket packet_hits(packet);
+        NoCounters counters;
+        intersect_packet(structure, packet, packet_hits, counters, variant);
+        std::array<Hit, kLanes> lanes;
+        packet_hits.store(lanes);
+        blocks.store(block, lanes, out);
+        return true;
+    });
+}
+
+template <class Structure, SimdWidth Width, SimdWidth File>
+bool RenderKernels<Structure, Width, File>::occlude_array_tile(const Structure& structure, const RayImage& image,
+                                                               const ImageTile& tile, std::uint8_t* out,
+                                                               PacketVariant variant) {
+    static_assert(kDefinedHere<Width, File>);
+    const ArrayTile<PacketArchInFile<Width>> blocks(image, tile);
+    return blocks.for_each_block([&](const auto& packet, const auto& block) {
+        NoCounters counters;
+        const std::uint32_t bits = simd::mask_bits(occlude_packet(structure, packet, counters, variant));
+        std::array<std::uint8_t, kLanes> lanes;
+        for (std::size_t k = 0; k < kLanes; ++k) lanes[k] = (bits >> k) & 1u;
+        blocks.store(block, lanes, out);
+        return true;
+    });
+}
+
 // The portable build's 8- and 16-lane files only (single rays; the narrower packets below): the
 // 4-lane file's x86-64-v2 is the baseline's own, and a native build's baseline is its kernels'
 // instruction set.
@@ -131,6 +165,33 @@ template <class Structure, SimdWidth File>
                 is_traced(rays[i]) &&
                 structure.template occluded<decltype(test_tag)::value, decltype(slabs_tag)::value>(rays[i], counters);
         }
+    });
+}
+
+template <class Structure, SimdWidth File>
+[[gnu::flatten]] bool SingleRayKernels<Structure, File>::intersect_array_tile(const Structure& structure,
+                                                                              const RayImage& image,
+                                                                              const ImageTile& tile, Hit* out,
+                                                                              TriangleTest test, SlabTest slabs) {
+    return with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
+        return trace_tile_singly(image, tile, out, [&](const Ray& ray) {
+            NoCounters counters;
+            return structure.template intersect<decltype(test_tag)::value, decltype(slabs_tag)::value>(ray, counters);
+        });
+    });
+}
+
+template <class Structure, SimdWidth File>
+[[gnu::flatten]] bool SingleRayKernels<Structure, File>::occlude_array_tile(const Structure& structure,
+                                                                            const RayImage& image,
+                                                                            const ImageTile& tile, std::uint8_t* out,
+                                                                            TriangleTest test, SlabTest slabs) {
+    return with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
+        return trace_tile_singly(image, tile, out, [&](const Ray& ray) {
+            NoCounters counters;
+            return std::uint8_t(
+                structure.template occluded<decltype(test_tag)::value, decltype(slabs_tag)::value>(ray, counters));
+        });
     });
 }
 

@@ -16,6 +16,7 @@
 #include "core/ray.h"
 #include "core/slab_test.h"
 #include "render/image_tiles.h"
+#include "render/ray_arrays.h"
 #include "simd/width.h"
 
 namespace trident {
@@ -39,6 +40,13 @@ struct RenderKernels {
     static void intersect_rays(const Structure& structure, std::span<const Ray> rays, std::span<Hit> hits,
                                PacketVariant variant);
     static std::uint32_t occlude_rays(const Structure& structure, std::span<const Ray> rays, PacketVariant variant);
+    /// The tile's rays of an image of rays in arrays, packet block by packet block: the closest
+    /// hits, or the occluded rays as 1, written to out[image.index(x, y)]. False, some of the
+    /// tile's results written, at the first packet holding a ray that cannot be traced.
+    static bool intersect_array_tile(const Structure& structure, const RayImage& image, const ImageTile& tile,
+                                     Hit* out, PacketVariant variant);
+    static bool occlude_array_tile(const Structure& structure, const RayImage& image, const ImageTile& tile,
+                                   std::uint8_t* out, PacketVariant variant);
 };
 
 /// Single rays compiled in the kernel file of `File`'s width, so with its instruction set: in the
@@ -57,6 +65,11 @@ struct SingleRayKernels {
                                TriangleTest test, SlabTest slabs);
     static void occlude_rays(const Structure& structure, std::span<const Ray> rays, std::span<std::uint8_t> occluded,
                              TriangleTest test, SlabTest slabs);
+    /// RenderKernels' array tiles, one ray at a time (trace_tile_singly).
+    static bool intersect_array_tile(const Structure& structure, const RayImage& image, const ImageTile& tile,
+                                     Hit* out, TriangleTest test, SlabTest slabs);
+    static bool occlude_array_tile(const Structure& structure, const RayImage& image, const ImageTile& tile,
+                                   std::uint8_t* out, TriangleTest test, SlabTest slabs);
 };
 
 /// In the portable build (TRIDENT_PORTABLE_BUILD), calls f.template operator()<File>() for the

@@ -1,6 +1,8 @@
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstring>
+#include <limits>
 
 #include "render/ray_stream.h"
 #include "render/trace.h"
@@ -80,8 +82,11 @@ TEST_CASE("under every ISA cap this CPU has, every width it allows gives the sca
         for (std::uint32_t x = 0; x < camera.width(); ++x) {
             const Ray primary = camera.primary_ray(x, y);
             const float a = float((x * 7 + y * 13) % 17) - 8.0f, b = float((x * 5 + y * 3) % 11) - 5.0f;
-            rays.push_back(Ray{primary.origin + primary.dir * (0.8f * float(x + y + 1) / float(camera.width() + camera.height())),
-                               {a, b, 1.0f}, 0.0f, kInfinity});
+            rays.push_back(
+                Ray{primary.origin + primary.dir * (0.8f * float(x + y + 1) / float(camera.width() + camera.height())),
+                    {a, b, 1.0f},
+                    0.0f,
+                    kInfinity});
         }
     auto same_all_bits = [](const std::vector<Hit>& a, const std::vector<Hit>& b) {
         std::size_t differ = 0;
@@ -141,5 +146,81 @@ TEST_CASE("ISA levels print as they parse, and nothing else parses") {
     for (const char* bad : {"", "sse2", "AVX2", "avx512bw", "avx-512", "native"}) {
         CAPTURE(bad);
         CHECK_FALSE(parse_isa_level(bad).has_value());
+    }
+}
+
+TEST_CASE("rays kept in arrays, traced tile by tile, equal single rays in every layout and width") {
+    const Scene scene = make_builtin_scene("teapot");
+    // 37x23 cuts tiles and packet blocks at the right and bottom edges; rays jittered off the camera's.
+    const Camera camera(scene.camera, 37, 23);
+    std::vector<Ray> rays;
+    std::vector<float> six;  // origin then direction per ray, as numpy's (..., 6) arrays
+    std::vector<float> directions;
+    for (std::uint32_t y = 0; y < camera.height(); ++y)
+        for (std::uint32_t x = 0; x < camera.width(); ++x) {
+            Ray ray = camera.primary_ray(x, y);
+            ray.dir.x += 0.01f * float((x * 7 + y * 3) % 5);
+            rays.push_back(ray);
+            six.insert(six.end(), {ray.origin.x, ray.origin.y, ray.origin.z, ray.dir.x, ray.dir.y, ray.dir.z});
+            directions.insert(directions.end(), {ray.dir.x, ray.dir.y, ray.dir.z});
+        }
+    const Vec3f eye = rays[0].origin;
+    const float shared_origin[3] = {eye.x, eye.y, eye.z};
+    const StridedRays six_float{
+        .origins = six.data(), .origin_stride = 6, .directions = six.data() + 3, .direction_stride = 6};
+    const StridedRays shared{.origins = shared_origin, .origin_stride = 0, .directions = directions.data()};
+    for (AccelKind kind : kinds_with_packets()) {
+        const AnyAccel accel = AnyAccel::build(kind, scene.mesh);
+        std::vector<Hit> expected(rays.size());
+        std::vector<std::uint8_t> expected_occluded(rays.size());
+        intersect_stream(accel, rays, expected, {SimdWidth::scalar});
+        occlude_stream(accel, rays, expected_occluded, {SimdWidth::scalar});
+        std::size_t hits = 0;
+        for (const Hit& h : expected) hits += h.is_hit();
+        REQUIRE(hits > 0);
+        for (SimdWidth width : {SimdWidth::scalar, SimdWidth::w4, SimdWidth::w8, SimdWidth::w16}) {
+            if (!is_runnable(width)) continue;
+            // An image of rays in 16x16 tiles, and the same rays as a list in rows of 512 runs.
+            for (const auto& [arrays, image] : {std::pair{six_float, RayImage{six_float, camera.width()}},
+                                                std::pair{shared, RayImage{shared, camera.width()}},
+                                                std::pair{six_float, RayImage{six_float, 512, true}}}) {
+                CAPTURE(std::string(to_string(kind)));
+                CAPTURE(std::string(to_string(width)));
+                CAPTURE(arrays.origin_stride);
+                CAPTURE(image.runs);
+                std::vector<Hit> got(rays.size(), Hit{7, 1.0f});
+                std::vector<std::uint8_t> occluded(rays.size(), 7);
+                std::vector<ImageTile> tiles;
+                if (image.runs)  // a list's row as one tile, the last one short
+                    for (std::uint32_t y = 0; y * 512 < rays.size(); ++y)
+                        tiles.push_back(
+                            {0, y, std::uint32_t(std::min<std::size_t>(rays.size() - y * 512, 512)), y + 1});
+                else
+                    for (std::uint32_t y0 = 0; y0 < camera.height(); y0 += 16)
+                        for (std::uint32_t x0 = 0; x0 < camera.width(); x0 += 16)
+                            tiles.push_back(
+                                {x0, y0, std::min(x0 + 16, camera.width()), std::min(y0 + 16, camera.height())});
+                for (const ImageTile& tile : tiles) {
+                    CHECK(intersect_array_tile(accel, image, tile, got.data(), {width}));
+                    CHECK(occlude_array_tile(accel, image, tile, occluded.data(), {width}));
+                }
+                std::size_t differ = 0;
+                for (std::size_t i = 0; i < rays.size(); ++i)
+                    differ += !same_bits(expected[i], got[i]) || expected_occluded[i] != occluded[i];
+                CHECK(differ == 0);
+            }
+        }
+        // A ray that cannot be traced fails its tile, whatever the width.
+        std::vector<float> bad = six;
+        bad[6 * (20 * camera.width() + 30) + 4] = std::numeric_limits<float>::quiet_NaN();
+        const StridedRays bad_arrays{
+            .origins = bad.data(), .origin_stride = 6, .directions = bad.data() + 3, .direction_stride = 6};
+        const RayImage bad_image{bad_arrays, camera.width()};
+        std::vector<Hit> got(rays.size());
+        for (SimdWidth width : {SimdWidth::scalar, SimdWidth::w4, SimdWidth::w8, SimdWidth::w16}) {
+            if (!is_runnable(width)) continue;
+            CHECK_FALSE(intersect_array_tile(accel, bad_image, {16, 16, 32, 23}, got.data(), {width}));
+            CHECK(intersect_array_tile(accel, bad_image, {0, 16, 16, 23}, got.data(), {width}));
+        }
     }
 }

@@ -330,6 +330,44 @@ class PortableAndSetup(RunSetFixture):
             self.page()
 
 
+def python_rows():
+    """The module over the C++ render: the BVH's 16 lanes over the target on the complex scene."""
+    return [{"scene": scene, "structure": "bvh", "traversal": traversal, "threads": 2, "ratio": ratio,
+             "differing_hits": 0}
+            for scene, traversal, ratio in (("simple", "scalar", 0.95), ("complex", "scalar", 1.00),
+                                            ("simple", "simd16", 1.04), ("complex", "simd16", 1.08))]
+
+
+class PythonModule(RunSetFixture):
+    def setUp(self):
+        super().setUp()
+        self.write("python.json", {"width": 1920, "height": 1080, "rounds": 3, "repeats": 3,
+                                   "machine": dict(MACHINE), "rows": python_rows()})
+        self.write("targets.json", TARGETS + [
+            {"issue": 33, "target": "module at most 1.05x C++", "measure": "python_ratio", "at_most": 1.05,
+             "reason": "Python reason.", "trials": "experiments/python_module.md"}])
+        self.manifest.update(python="python.json")
+        self.manifest["steps"].append({"name": "python", "seconds": 60, "command": "python_bench.py ..."})
+        self.write("run.json", self.manifest)
+
+    def test_the_ratios_per_structure_and_traversal(self):
+        section = self.section(self.page(), "## The Python module against the C++ renderer")
+        self.assertEqual(self.table_row(section, "BVH").split(" | ")[1:], ["0.95–1.00 (0.97)", "1.04–1.08 (1.06) |"])
+        self.assertIn("2 threads (1920x1080)", section)
+        self.assertIn("(0 differing). Command: `python_bench.py ...`.", section)
+
+    def test_its_target(self):
+        row = self.table_row(self.section(self.page(), "## Targets not met"), "33")
+        self.assertIn("0.95–1.08 (paired) | 3 of 4 | complex |", row)
+
+    def test_absent_it_is_not_measured(self):
+        del self.manifest["python"]
+        self.write("run.json", self.manifest)
+        text = self.page()
+        self.assertIn("Not measured by this run set (its `python` step did not run).", text)
+        self.assertIn("module at most 1.05x C++ (issue 33", self.section(text, "## Targets not met"))
+
+
 class TheCommittedPage(unittest.TestCase):
     def test_bench_results_md_is_what_its_json_gives(self):
         if not os.path.exists(os.path.join(SHARED, "BENCHMARK.md")):
