@@ -348,6 +348,21 @@ def step_command(runs, name):
     return next((s["command"] for s in runs.manifest.get("steps", []) if s["name"] == name), None)
 
 
+def structure_by_traversal(rows, column):
+    """A table of a structure a line and a traversal a column; a cell: `column` over the rows of that
+    structure and traversal, lowest–highest, then their median."""
+    structures = ordered([r["structure"] for r in rows], ["bvh", "bvh2", "kdtree", "octree"])
+    traversals = ordered([r["traversal"] for r in rows], TRAVERSAL_ORDER)
+    body = []
+    for s in structures:
+        cells = [name_of(s)]
+        for t in traversals:
+            values = [r[column] for r in rows if r["structure"] == s and r["traversal"] == t]
+            cells.append("-" if not values else "{} ({})".format(span(values), two(statistics.median(values))))
+        body.append(cells)
+    return table(["structure"] + list(traversals), body)
+
+
 def portable_section(runs):
     data = runs.portable
     out = ["## The portable build against the native one", ""]
@@ -360,16 +375,7 @@ def portable_section(runs):
             "lowest–highest over the scenes (`{}`) and ray kinds, then their median. Command: `{}`.".format(
                 plural(data["rounds"], "round"), data["each_scene"], step_command(runs, "portable") or "-"), ""]
     rows = data["rows"]
-    structures = ordered([r["structure"] for r in rows], ["bvh", "bvh2", "kdtree", "octree"])
-    traversals = ordered([r["traversal"] for r in rows], TRAVERSAL_ORDER)
-    body = []
-    for s in structures:
-        cells = [name_of(s)]
-        for t in traversals:
-            medians = [r["median"] for r in rows if r["structure"] == s and r["traversal"] == t]
-            cells.append("-" if not medians else "{} ({})".format(span(medians), two(statistics.median(medians))))
-        body.append(cells)
-    out.append(table(["structure"] + list(traversals), body))
+    out.append(structure_by_traversal(rows, "median"))
     every = [r["median"] for r in rows]
     out += ["", "{} rows; their medians {}, the median of those {}.".format(len(every), span(every),
                                                                            two(statistics.median(every)))]
@@ -387,20 +393,11 @@ def python_section(runs):
             "against trident-bench's render of the same rays, same structure and traversal, {} ({}x{}): in each of "
             "{}, trident-bench's median of {} renders, then the module's median of as many calls. A cell: the "
             "medians over rounds of the module's time over the C++ one, lowest–highest over the scenes, then their "
-            "median. The module's hits equal trident-bench's hit buffer, triangle and t, on every row ({} "
-            "differing). Command: `{}`.".format(
+            "median. Rays whose hit (triangle or t) differs from trident-bench's hit buffer of the same rays: {}. "
+            "Command: `{}`.".format(
                 plural(rows[0]["threads"], "thread"), data["width"], data["height"], plural(data["rounds"], "round"),
                 data["repeats"], differing, step_command(runs, "python") or "-"), ""]
-    structures = ordered([r["structure"] for r in rows], ["bvh", "bvh2", "kdtree", "octree"])
-    traversals = ordered([r["traversal"] for r in rows], TRAVERSAL_ORDER)
-    body = []
-    for s in structures:
-        cells = [name_of(s)]
-        for t in traversals:
-            ratios = [r["ratio"] for r in rows if r["structure"] == s and r["traversal"] == t]
-            cells.append("-" if not ratios else "{} ({})".format(span(ratios), two(statistics.median(ratios))))
-        body.append(cells)
-    out.append(table(["structure"] + list(traversals), body))
+    out.append(structure_by_traversal(rows, "ratio"))
     return out
 
 
