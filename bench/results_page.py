@@ -388,6 +388,8 @@ def python_section(runs):
     if data is None:
         return out + ["Not measured by this run set (its `python` step did not run)."]
     rows = data["rows"]
+    if not rows:
+        return out + ["Its `python` step measured no rows."]
     differing = sum(r["differing_hits"] for r in rows)
     out += ["`scene.intersect(rays)` of the Python module on `trident.camera_rays(...)` of BENCHMARK.md's camera "
             "against trident-bench's render of the same rays, same structure and traversal, {} ({}x{}): in each of "

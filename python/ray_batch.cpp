@@ -15,13 +15,15 @@
 #include <vector>
 
 #include "render/image_tiles.h"
+#include "render/stream_packets.h"
 
 namespace trident {
 
 namespace {
 
-// A list of rays is traced in rows of this many, as ray_stream.cpp cuts its parallel streams.
-constexpr std::uint32_t kListChunkRays = 1024;
+// A list of rays is traced in rows of this many: the chunk a stream of rays is cut into for the
+// threads (render/stream_packets.h).
+constexpr auto kListChunkRays = std::uint32_t(kStreamChunkRays);
 constexpr std::size_t kNoRay = std::numeric_limits<std::size_t>::max();
 
 std::size_t ceil_div(std::size_t a, std::size_t b) { return (a + b - 1) / b; }

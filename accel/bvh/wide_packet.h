@@ -124,10 +124,8 @@ bool directions_within_cone(const RayPacket<Arch>& rays, float cos_half_angle) {
     const float axis_length2 = dot(axis, axis);
     if (!(axis_length2 > 0.0f)) return false;
     // cos(d, axis) >= c, squared to need no root: dot >= 0 and dot^2 >= c^2 |d|^2 |axis|^2.
-    const Vec3T<Float>& d = rays.dir;
-    const Float along = d.x * Float(axis.x) + d.y * Float(axis.y) + d.z * Float(axis.z);
-    const Float length2 = d.x * d.x + d.y * d.y + d.z * d.z;
-    const Float bound = Float(cos_half_angle * cos_half_angle * axis_length2) * length2;
+    const Float along = dot(rays.dir, Vec3T<Float>(Float(axis.x), Float(axis.y), Float(axis.z)));
+    const Float bound = Float(cos_half_angle * cos_half_angle * axis_length2) * dot(rays.dir, rays.dir);
     return !xsimd::any(rays.active & ((along < Float(0.0f)) | (along * along < bound)));
 }
 
