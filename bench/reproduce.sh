@@ -36,7 +36,7 @@ python=/usr/bin/python3  # Debian's, which has matplotlib
 
 only=() repeats=() primary_size=(--width 1920 --height 1080) secondary_size=(--width 960 --height 540)
 portable_scenes=teapot,asteroid,hall portable_rounds=3 portable_size=(--width 640 --height 360) setup=yes
-python_args=(--rounds 3)
+python_args=(--rounds 5)
 placeholder=""
 case "${1:-}" in
     "") ;;
@@ -49,7 +49,7 @@ case "${1:-}" in
         ;;
     --only)
         # The full settings on a few scenes, for a run set that must fit a short window.
-        only=(--only "${2:?--only needs a comma-separated list of scenes}") python_args=(--only "$2" --rounds 3)
+        only=(--only "${2:?--only needs a comma-separated list of scenes}") python_args=(--only "$2" --rounds 5)
         placeholder="Made by \`bash bench/reproduce.sh --only $2\`: the full settings on these scenes only."
         ;;
     *) echo "reproduce.sh: unknown option '$1' (expected nothing, --quick or --only SCENES)" >&2; exit 2 ;;

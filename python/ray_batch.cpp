@@ -1,6 +1,7 @@
 #include "ray_batch.h"
 
 #include <fmt/format.h>
+#include <immintrin.h>
 #include <tbb/blocked_range.h>
 #include <tbb/info.h>
 #include <tbb/parallel_for.h>
@@ -31,12 +32,17 @@ std::size_t ceil_div(std::size_t a, std::size_t b) { return (a + b - 1) / b; }
 bool is_image(const RayArrays& rays) { return rays.rows > 1; }
 
 /// The batch as the image of rays the stream kernels trace: an image of rays as it is, a list cut
-/// into rows of kListChunkRays traced in runs of consecutive rays.
-RayImage ray_image(const RayArrays& rays) {
-    if (!is_image(rays)) return {.rays = rays.strided, .width = kListChunkRays, .runs = true};
+/// into rows of kListChunkRays traced in runs of consecutive rays. Results are streamed when asked
+/// and aligned for it.
+template <class Result>
+RayImage ray_image(const RayArrays& rays, BatchTraversal traversal, const Result* out) {
+    const bool stream_results =
+        traversal.stream_results && reinterpret_cast<std::uintptr_t>(out) % alignof(__m128) == 0;
+    if (!is_image(rays))
+        return {.rays = rays.strided, .width = kListChunkRays, .runs = true, .stream_results = stream_results};
     if (rays.columns > std::numeric_limits<std::uint32_t>::max())
         throw std::invalid_argument("ray batch: an image of rays is at most 2^32 - 1 columns wide");
-    return {.rays = rays.strided, .width = std::uint32_t(rays.columns)};
+    return {.rays = rays.strided, .width = std::uint32_t(rays.columns), .stream_results = stream_results};
 }
 
 /// The tiles the threads share: an image's 16x16 tiles row-major, as the renderer's
@@ -105,7 +111,7 @@ private:
 template <class Result, class TraceTile>
 void trace_tiles(const RayArrays& rays, std::span<Result> out, BatchTraversal traversal, TraceTile&& trace_tile) {
     if (out.size() != rays.size()) throw std::invalid_argument("ray batch: one result per ray is needed");
-    const RayImage image = ray_image(rays);
+    const RayImage image = ray_image(rays, traversal, out.data());
     UntraceableRays untraceable;
     if (!(rays.strided.tmin < rays.strided.tmax)) {
         for_each_tile(rays, traversal,
@@ -119,6 +125,7 @@ void trace_tiles(const RayArrays& rays, std::span<Result> out, BatchTraversal tr
         if (t + 1 < tiles) prefetch_tile(image, tile_at(rays, t + 1));
         // A tile stops at its first packet with a ray that cannot be traced: the batch fails anyway.
         if (!trace_tile(image, tile, out.data())) untraceable.note_first_in(image, tile);
+        if (image.stream_results) _mm_sfence();  // the tile's streaming stores seen before the batch returns
     });
     untraceable.throw_if_any();
 }
@@ -159,7 +166,7 @@ void occluded_batch(const AnyAccel& accel, const RayArrays& rays, std::span<std:
 void count_hits_batch(const AnyAccel& accel, const RayArrays& rays, std::span<std::int32_t> counts,
                       BatchTraversal traversal) {
     if (counts.size() != rays.size()) throw std::invalid_argument("ray batch: one result per ray is needed");
-    const RayImage image = ray_image(rays);
+    const RayImage image = ray_image(rays, traversal, counts.data());
     UntraceableRays untraceable;
     for_each_tile(rays, traversal, [&](const ImageTile& tile, std::size_t) {
         // The tile's rays copied into a list, in packet order: each round moves every ray's tmin.

@@ -26,10 +26,13 @@ struct RayArrays {
     Ray ray(std::size_t i) const { return strided.ray(i); }
 };
 
-/// How a batch is traced: the packet width (scalar: single rays) and the threads (0: all cores).
+/// How a batch is traced: the packet width (scalar: single rays), the threads (0: all cores), and
+/// whether closest hits are written with streaming stores (RayImage::stream_results: for large
+/// batches into memory kept between them, python/result_memory.h).
 struct BatchTraversal {
     SimdWidth width = SimdWidth::scalar;
     int threads = 0;
+    bool stream_results = false;
 };
 
 /// Every query throws std::invalid_argument, naming the first such ray, when an origin or a

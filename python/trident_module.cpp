@@ -21,6 +21,7 @@
 #include "accel/any_accel.h"
 #include "camera/camera.h"
 #include "ray_batch.h"
+#include "result_memory.h"
 #include "render/hit_buffer.h"
 #include "render/trace.h"
 #include "scene/obj_loader.h"
@@ -169,11 +170,14 @@ static_assert(sizeof(Hit) == 16 && offsetof(Hit, triangle) == 0 && offsetof(Hit,
 class Hits {
 public:
     Hits(Shape shape, std::shared_ptr<const Mesh> mesh)
-        : shape_(std::move(shape)),
-          buffer_(py::array_t<float>({py::ssize_t(element_count(shape_)), py::ssize_t(4)})),
+        : shape_(std::move(shape)), streamed_(element_count(shape_) * sizeof(Hit) >= kPooledResultBytes),
+          buffer_(streamed_ ? pooled_float_array(element_count(shape_), 4)
+                            : py::array_t<float>({py::ssize_t(element_count(shape_)), py::ssize_t(4)})),
           mesh_(std::move(mesh)) {}
 
     std::span<Hit> hits() { return {reinterpret_cast<Hit*>(buffer_.mutable_data()), element_count(shape_)}; }
+    /// Whether the traversal writes the hits with streaming stores: large batches, in pooled memory.
+    bool streamed() const { return streamed_; }
 
     py::array t() const { return field(py::dtype::of<float>(), offsetof(Hit, t)); }
     py::array triangle() const { return field(py::dtype::of<std::int32_t>(), offsetof(Hit, triangle)); }
@@ -214,6 +218,7 @@ private:
     }
 
     Shape shape_;
+    bool streamed_;
     py::array_t<float> buffer_;  // Hit i at floats 4i..4i+3
     std::shared_ptr<const Mesh> mesh_;
     std::optional<py::array> normal_;
@@ -360,8 +365,9 @@ public:
     py::object intersect(py::handle origins, py::handle directions, double tmin, double tmax, int threads,
                          py::handle simd) const {
         const RayInput input = read_rays(origins, directions, tmin, tmax);
-        const BatchTraversal traversal = read_traversal(*accel_, simd, threads);
         Hits hits(input.shape, mesh_);
+        BatchTraversal traversal = read_traversal(*accel_, simd, threads);
+        traversal.stream_results = hits.streamed();
         {
             py::gil_scoped_release release;
             intersect_batch(*accel_, input.arrays, hits.hits(), traversal);
@@ -660,7 +666,11 @@ range is a ValueError, an index beyond the vertices an IndexError, an unknown op
             "intersect", &Scene::intersect, py::arg("origins"), py::arg("directions") = py::none(),
             py::arg("tmin") = 0.0, py::arg("tmax") = std::numeric_limits<double>::infinity(), py::arg("threads") = 0,
             py::arg("simd") = "auto",
-            ("Closest hit of each ray in [tmin, tmax]: a Hits with t, triangle, u, v and normal.\n" + rays_doc).c_str())
+            ("Closest hit of each ray in [tmin, tmax]: a Hits with t, triangle, u, v and normal.\n"
+             "Hits of 4 MiB or more (262144 rays) use memory kept for the next batch of that size once\n"
+             "they and their views are gone (at most two buffers).\n" +
+             rays_doc)
+                .c_str())
         .def("occluded", &Scene::occluded, py::arg("origins"), py::arg("directions") = py::none(),
              py::arg("tmin") = 0.0, py::arg("tmax") = std::numeric_limits<double>::infinity(), py::arg("threads") = 0,
              py::arg("simd") = "auto", ("Whether each ray hits anything in [tmin, tmax] (bool).\n" + rays_doc).c_str())

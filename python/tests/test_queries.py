@@ -242,3 +242,30 @@ def test_an_empty_interval_traces_nothing_but_still_checks_the_rays(soup_case):
     bad[11] = 0.0
     with pytest.raises(ValueError, match="ray 11: "):
         scene.intersect(origins, bad, tmin=2.0, tmax=1.0)
+
+
+@pytest.mark.parametrize("simd", WIDTHS)
+def test_large_batches_reuse_result_memory_without_mixing_results(simd):
+    """Hits of 4 MiB or more go to memory kept between calls and are written by streaming stores."""
+    teapot = trident.builtin_scene("teapot")
+    scene = trident.Scene(teapot["vertices"], teapot["triangles"])
+    camera = teapot["camera"]
+    rays = trident.camera_rays(camera["eye"], camera["target"], camera["up"], camera["fov_y_deg"], 512, 512)
+    # Row by row, 8 KiB of hits a call: numpy's own memory and normal stores.
+    rows = [scene.intersect(row, simd="scalar") for row in rays]
+    expected_triangle = np.stack([row.triangle for row in rows])
+    expected_t = np.stack([row.t for row in rows])
+    assert (expected_triangle >= 0).sum() > 10000
+    first = scene.intersect(rays, simd=simd, threads=2)
+    away = rays.copy()
+    away[..., 3:] *= -1.0  # every ray turned away from the teapot: all misses
+    second = scene.intersect(away, simd=simd, threads=2)  # while the first is alive: other memory
+    np.testing.assert_array_equal(first.triangle, expected_triangle)
+    np.testing.assert_array_equal(first.t, expected_t)
+    assert (second.triangle == -1).all() and np.isinf(second.t).all()
+    t_view = first.t  # a view keeps the memory from being reused
+    del first, second
+    third = scene.intersect(rays, simd=simd, threads=2)  # reuses the second's memory
+    np.testing.assert_array_equal(t_view, expected_t)
+    np.testing.assert_array_equal(third.triangle, expected_triangle)
+    np.testing.assert_array_equal(third.t, expected_t)

@@ -81,20 +81,30 @@ public:
         }
     }
 
-    /// The block's active lanes' results to their rays' places in `out`.
+    /// The block's active lanes' results to their rays' places in `out`, by streaming stores where
+    /// the image asks for them (RayImage::stream_results).
     template <class Result>
-    void store(const Block& block, const std::array<Result, kLanes>& lanes, Result* out) const {
+    [[gnu::always_inline]] void store(const Block& block, const std::array<Result, kLanes>& lanes, Result* out) const {
+        if constexpr (kStreamableResult<Result>)
+            if (image_.stream_results) return store_lanes<true>(block, lanes, out);
+        store_lanes<false>(block, lanes, out);
+    }
+
+private:
+    template <bool Streaming, class Result>
+    [[gnu::always_inline]] void store_lanes(const Block& block, const std::array<Result, kLanes>& lanes,
+                                            Result* out) const {
         if (block.active_bits == kAllLanes) {
-            for (std::size_t i = 0; i < kLanes; ++i) out[block.first + ray_offset_[i]] = lanes[i];
+            for (std::size_t i = 0; i < kLanes; ++i)
+                write_result<Streaming>(out + block.first + ray_offset_[i], lanes[i]);
             return;
         }
         for (std::uint32_t bits = block.active_bits; bits != 0; bits &= bits - 1) {
             const int i = std::countr_zero(bits);
-            out[block.first + ray_offset_[i]] = lanes[i];
+            write_result<Streaming>(out + block.first + ray_offset_[i], lanes[i]);
         }
     }
 
-private:
     /// Each lane's 3 floats from at(i), by coordinate.
     template <class At>
     static Vec3T<Float> load_lanes(At&& at) {
