@@ -49,7 +49,7 @@ case "${1:-}" in
         ;;
     --only)
         # The full settings on a few scenes, for a run set that must fit a short window.
-        only=(--only "${2:?--only needs a comma-separated list of scenes}") python_args=(--only "$2" --rounds 5)
+        only=(--only "${2:?--only needs a comma-separated list of scenes}") python_args+=(--only "$2")
         placeholder="Made by \`bash bench/reproduce.sh --only $2\`: the full settings on these scenes only."
         ;;
     *) echo "reproduce.sh: unknown option '$1' (expected nothing, --quick or --only SCENES)" >&2; exit 2 ;;

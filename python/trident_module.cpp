@@ -170,14 +170,14 @@ static_assert(sizeof(Hit) == 16 && offsetof(Hit, triangle) == 0 && offsetof(Hit,
 class Hits {
 public:
     Hits(Shape shape, std::shared_ptr<const Mesh> mesh)
-        : shape_(std::move(shape)), streamed_(element_count(shape_) * sizeof(Hit) >= kPooledResultBytes),
-          buffer_(streamed_ ? pooled_float_array(element_count(shape_), 4)
-                            : py::array_t<float>({py::ssize_t(element_count(shape_)), py::ssize_t(4)})),
+        : shape_(std::move(shape)),
+          buffer_(streamed() ? pooled_float_array(element_count(shape_), 4)
+                             : py::array_t<float>({py::ssize_t(element_count(shape_)), py::ssize_t(4)})),
           mesh_(std::move(mesh)) {}
 
     std::span<Hit> hits() { return {reinterpret_cast<Hit*>(buffer_.mutable_data()), element_count(shape_)}; }
     /// Whether the traversal writes the hits with streaming stores: large batches, in pooled memory.
-    bool streamed() const { return streamed_; }
+    bool streamed() const { return element_count(shape_) * sizeof(Hit) >= kPooledResultBytes; }
 
     py::array t() const { return field(py::dtype::of<float>(), offsetof(Hit, t)); }
     py::array triangle() const { return field(py::dtype::of<std::int32_t>(), offsetof(Hit, triangle)); }
@@ -218,7 +218,6 @@ private:
     }
 
     Shape shape_;
-    bool streamed_;
     py::array_t<float> buffer_;  // Hit i at floats 4i..4i+3
     std::shared_ptr<const Mesh> mesh_;
     std::optional<py::array> normal_;

@@ -103,18 +103,8 @@ bool trace_array_tile(const AnyAccel& accel, const RayImage& image, const ImageT
             });
         });
         if (in_kernel_file) return traced;
-        with_traversal_variant(test, traversal.slabs, [&](auto test_tag, auto slabs_tag) {
-            constexpr TriangleTest kTest = decltype(test_tag)::value;
-            constexpr SlabTest kSlabs = decltype(slabs_tag)::value;
-            accel.visit([&](const auto& structure) {
-                traced = trace_tile_singly(image, tile, out, [&](const Ray& ray) {
-                    NoCounters counters;
-                    if constexpr (AnyHit)
-                        return std::uint8_t(structure.template occluded<kTest, kSlabs>(ray, counters));
-                    else
-                        return structure.template intersect<kTest, kSlabs>(ray, counters);
-                });
-            });
+        accel.visit([&](const auto& structure) {
+            traced = trace_array_tile_singly<AnyHit>(structure, image, tile, out, test, traversal.slabs);
         });
         return traced;
     }

@@ -173,12 +173,7 @@ template <class Structure, SimdWidth File>
                                                                               const RayImage& image,
                                                                               const ImageTile& tile, Hit* out,
                                                                               TriangleTest test, SlabTest slabs) {
-    return with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
-        return trace_tile_singly(image, tile, out, [&](const Ray& ray) {
-            NoCounters counters;
-            return structure.template intersect<decltype(test_tag)::value, decltype(slabs_tag)::value>(ray, counters);
-        });
-    });
+    return trace_array_tile_singly<false>(structure, image, tile, out, test, slabs);
 }
 
 template <class Structure, SimdWidth File>
@@ -186,13 +181,7 @@ template <class Structure, SimdWidth File>
                                                                             const RayImage& image,
                                                                             const ImageTile& tile, std::uint8_t* out,
                                                                             TriangleTest test, SlabTest slabs) {
-    return with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
-        return trace_tile_singly(image, tile, out, [&](const Ray& ray) {
-            NoCounters counters;
-            return std::uint8_t(
-                structure.template occluded<decltype(test_tag)::value, decltype(slabs_tag)::value>(ray, counters));
-        });
-    });
+    return trace_array_tile_singly<true>(structure, image, tile, out, test, slabs);
 }
 
 template struct SingleRayKernels<BruteForce, kKernelWidth>;

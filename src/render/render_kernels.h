@@ -15,6 +15,7 @@
 #include "core/intersect_triangle.h"
 #include "core/ray.h"
 #include "core/slab_test.h"
+#include "core/traversal_variant.h"
 #include "render/image_tiles.h"
 #include "render/ray_arrays.h"
 #include "simd/width.h"
@@ -71,6 +72,25 @@ struct SingleRayKernels {
     static bool occlude_array_tile(const Structure& structure, const RayImage& image, const ImageTile& tile,
                                    std::uint8_t* out, TriangleTest test, SlabTest slabs);
 };
+
+/// The tile's rays of an image of rays in arrays one at a time (trace_tile_singly), each through
+/// the structure's single-ray walk with `test` and `slabs`: the closest hits, or the occluded rays
+/// as 1 (AnyHit). For SingleRayKernels' kernel files and the baseline's own single rays alike.
+template <bool AnyHit, class Structure, class Result>
+bool trace_array_tile_singly(const Structure& structure, const RayImage& image, const ImageTile& tile, Result* out,
+                             TriangleTest test, SlabTest slabs) {
+    return with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
+        constexpr TriangleTest kTest = decltype(test_tag)::value;
+        constexpr SlabTest kSlabs = decltype(slabs_tag)::value;
+        return trace_tile_singly(image, tile, out, [&](const Ray& ray) {
+            NoCounters counters;
+            if constexpr (AnyHit)
+                return std::uint8_t(structure.template occluded<kTest, kSlabs>(ray, counters));
+            else
+                return structure.template intersect<kTest, kSlabs>(ray, counters);
+        });
+    });
+}
 
 /// In the portable build (TRIDENT_PORTABLE_BUILD), calls f.template operator()<File>() for the
 /// widest kernel file the CPU and the cap allow, when it holds more than `Lanes` lanes, and
