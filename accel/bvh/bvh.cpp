@@ -31,31 +31,37 @@ HugePageArray<TriangleId> gather_ids(std::size_t count, IdOf id_of) {
 
 }  // namespace
 
-Bvh Bvh::build(const Mesh& mesh, const BvhOptions& options) {
+namespace bvh {
+
+BinaryTree build_binary_tree(const Mesh& mesh, const BvhOptions& options) {
     options.validate();
     if (mesh.triangle_count() >= std::size_t(kNoTriangle))
         throw std::length_error("Bvh: " + std::to_string(mesh.triangle_count()) + " triangles exceed 32-bit ids");
-    const auto start = std::chrono::steady_clock::now();
+    if (options.builder == BvhBuilder::spatial_sah) {
+        SpatialSplitTree tree = build_with_spatial_splits(mesh, options);
+        return {std::move(tree.nodes), std::move(tree.leaf_ids)};
+    }
+    HugePageArray<PrimitiveRef> refs = make_primitive_refs(mesh);
+    const BuildRange root = whole_range(refs);
+    if (options.builder == BvhBuilder::binned_sah) {
+        BinnedSahSplitter splitter(refs, options);
+        HugePageArray<BvhNode> nodes = TreeBuilder(splitter, options).build(root);
+        return {std::move(nodes), gather_ids(refs.size(), [&](std::size_t i) { return refs[i].id; })};
+    }
+    SweepSahSplitter splitter(refs, options);
+    HugePageArray<BvhNode> nodes = TreeBuilder(splitter, options).build(root);
+    return {std::move(nodes), gather_ids(refs.size(), [&](std::size_t i) { return splitter.leaf_order()[i]; })};
+}
 
+}  // namespace bvh
+
+Bvh Bvh::build(const Mesh& mesh, const BvhOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    bvh::BinaryTree tree = bvh::build_binary_tree(mesh, options);
     Bvh result;
     result.options_ = options;
-    if (options.builder == BvhBuilder::spatial_sah) {
-        bvh::SpatialSplitTree tree = bvh::build_with_spatial_splits(mesh, options);
-        result.nodes_ = std::move(tree.nodes);
-        result.triangle_ids_ = std::move(tree.leaf_ids);
-    } else {
-        HugePageArray<bvh::PrimitiveRef> refs = bvh::make_primitive_refs(mesh);
-        const bvh::BuildRange root = bvh::whole_range(refs);
-        if (options.builder == BvhBuilder::binned_sah) {
-            bvh::BinnedSahSplitter splitter(refs, options);
-            result.nodes_ = bvh::TreeBuilder(splitter, options).build(root);
-            result.triangle_ids_ = gather_ids(refs.size(), [&](std::size_t i) { return refs[i].id; });
-        } else {
-            bvh::SweepSahSplitter splitter(refs, options);
-            result.nodes_ = bvh::TreeBuilder(splitter, options).build(root);
-            result.triangle_ids_ = gather_ids(refs.size(), [&](std::size_t i) { return splitter.leaf_order()[i]; });
-        }
-    }
+    result.nodes_ = std::move(tree.nodes);
+    result.triangle_ids_ = std::move(tree.leaf_ids);
     result.triangles_.resize(result.triangle_ids_.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, result.triangles_.size(), kGatherGrain), [&](const auto& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i)

@@ -29,6 +29,21 @@
 
 namespace trident {
 
+namespace bvh {
+
+/// The binary tree without the corners copied into leaf order: what Bvh::build and the wide BVH's
+/// collapse (wide_collapse.h) start from.
+struct BinaryTree {
+    HugePageArray<BvhNode> nodes;         // depth-first, root first
+    HugePageArray<TriangleId> leaf_ids;  // leaves' triangles in leaf order (file-order ids)
+};
+
+/// Builds with oneTBB on the caller's threads; the result does not depend on their number.
+/// Throws as Bvh::build does.
+BinaryTree build_binary_tree(const Mesh& mesh, const BvhOptions& options);
+
+}  // namespace bvh
+
 class Bvh {
 public:
     /// Builds with oneTBB on the caller's threads; the result does not depend on their number.

@@ -43,6 +43,8 @@ void BvhOptions::validate() const {
     if (max_leaf_size < 1 || max_leaf_size > kMaxLeafSizeLimit)
         fail("max_leaf_size " + std::to_string(max_leaf_size) + " is outside [1, " + std::to_string(kMaxLeafSizeLimit) +
              "]");
+    if (leaf_block_size < 1 || leaf_block_size > max_leaf_size)
+        fail("leaf_block_size " + std::to_string(leaf_block_size) + " is outside [1, max_leaf_size]");
 }
 
 }  // namespace trident

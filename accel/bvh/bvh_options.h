@@ -35,6 +35,9 @@ struct BvhOptions {
     float intersection_cost = 1.0f;
     /// A node this large is split even when SAH prefers a leaf (median split if SAH finds none).
     int max_leaf_size = 8;
+    /// Triangles a leaf tests in one step: 1 for the binary tree, the block size when the tree is
+    /// collapsed into the wide BVH's blocks of triangles (wide_bvh.h). See fits_one_block().
+    int leaf_block_size = 1;
     /// spatial_sah: the references it may add by cutting triangles, as a share of the triangles,
     /// in [0, kMaxSpatialSplitBudget] (0: object splits only).
     float spatial_split_budget = 0.5f;
@@ -43,6 +46,28 @@ struct BvhOptions {
     /// wide_bvh.h, built by collapsing the binary one). 8 is the fastest on every AVX2 and
     /// AVX-512 machine measured (bench/experiments/bvh_traversal.md).
     int width = 8;
+
+    /// Whether a node of `count` triangles fits one leaf block. Such a node's split is judged by
+    /// split_beats_block(), the collapse's cost, instead of the binary tree's SAH.
+    bool fits_one_block(std::uint32_t count) const { return count <= std::uint32_t(leaf_block_size); }
+
+    /// The share of a one-block node's area that its children's areas must stay under for a split.
+    /// At 1 (the bare cost comparison) the trees were those of the binary SAH, blocks 72-77% full
+    /// and 63.8-67.8 bytes a triangle on the study scenes; never splitting such nodes filled blocks
+    /// to 79-84% (59.6-63.7 bytes) but slowed Sponza's rays by up to 9%, where a few large
+    /// triangles far apart share a node. 0.85 kept Sponza's and Gallery's rays within noise of the
+    /// old trees and gave 60.3-64.6 bytes a triangle (bench/experiments/bvh-build.md).
+    static constexpr float kBlockSplitShare = 0.85f;
+
+    /// For a node that fits one block: whether splitting it pays in the wide tree. As a leaf it is
+    /// one block test over its area; split, its children become two leaves in two slots of the wide
+    /// node above (the collapse folds the binary node away), one block test each over its own area,
+    /// and the slot the split takes is one another subtree no longer has (kBlockSplitShare). The
+    /// binary SAH instead charges a node step and a test per triangle, so it split nearly every
+    /// such node, and the collapse gathered many of them into one block again.
+    static bool split_beats_block(float left_area, float right_area, float area) {
+        return left_area + right_area < kBlockSplitShare * area;
+    }
 
     /// The reference study's setting: traversal cost 1/4, intersection cost 1, one split axis.
     static BvhOptions study();

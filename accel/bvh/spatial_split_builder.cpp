@@ -173,7 +173,9 @@ private:
         append(children.right, children.right_bounds, depth + 1, remaining - left_budget, out);
     }
 
-    /// The node's children, or false for a leaf. SAH decides between a leaf, the best object split
+    /// The node's children, or false for a leaf. A node that fits one block of the wide BVH gets
+    /// an object split only where the collapse's cost says so (BvhOptions::split_beats_block);
+    /// otherwise SAH decides between a leaf, the best object split
     /// and the best spatial split; a node SAH would leave too large gets a median split. The
     /// depth bound is TreeBuilder::split_node's: SAH splits only while median splits could still
     /// finish the subtree within kBvhMaxDepth (a child holds at most as many references as its
@@ -187,6 +189,12 @@ private:
             const double leaf_cost = double(options_.intersection_cost) * double(count) * area;
             const Aabb centroids = centroid_bounds_of(refs);
             const Split object = best_object_split(refs, centroids, area);
+            if (options_.fits_one_block(std::uint32_t(count))) {
+                if (object.axis < 0) return false;
+                partition_object(refs, centroids, object, children);
+                return BvhOptions::split_beats_block(children.left_bounds.surface_area(),
+                                                     children.right_bounds.surface_area(), bounds.surface_area());
+            }
             Split spatial;
             const Aabb overlap{max(object.left_bounds.lo, object.right_bounds.lo),
                                min(object.left_bounds.hi, object.right_bounds.hi)};

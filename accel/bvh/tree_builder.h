@@ -63,7 +63,9 @@ private:
         std::uint32_t offset;
     };
 
-    /// Split a node, or nothing when it should be a leaf. SAH decides (leaf cost
+    /// Split a node, or nothing when it should be a leaf. A node that fits one block of the wide
+    /// BVH is split only where the collapse's cost says so (BvhOptions::split_beats_block);
+    /// otherwise SAH decides (leaf cost
     /// intersection_cost * N * A against the best split's cost); a node SAH would leave too large
     /// falls back to a median split. Depth bound: while depth + ceil(log2 N) <= kBvhMaxDepth holds,
     /// median splits (which halve N) can always finish the subtree within kBvhMaxDepth, so an SAH
@@ -73,6 +75,14 @@ private:
         if (count <= 1) return std::nullopt;
         if (depth + 1 + std::uint32_t(std::bit_width(count - 1)) <= kBvhMaxDepth) {
             const auto split = splitter_.find_sah_split(range);
+            if (options_.fits_one_block(count)) {
+                if (!(split.cost < kInfinity)) return std::nullopt;
+                ChildRanges children = splitter_.partition(range, split);  // a leaf keeps the range as reordered
+                if (BvhOptions::split_beats_block(children.left.bounds.surface_area(),
+                                                  children.right.bounds.surface_area(), range.bounds.surface_area()))
+                    return children;
+                return std::nullopt;
+            }
             const float leaf_cost = options_.intersection_cost * float(count) * range.bounds.surface_area();
             if (split.cost < leaf_cost) return splitter_.partition(range, split);
         }

@@ -1,5 +1,6 @@
 #include "accel/bvh/wide_bvh.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include "accel/bvh/bvh.h"
@@ -10,9 +11,11 @@ namespace trident {
 template <std::size_t Width, std::size_t BlockSize>
 WideBvh<Width, BlockSize> WideBvh<Width, BlockSize>::build(const Mesh& mesh, const BvhOptions& options) {
     const auto start = std::chrono::steady_clock::now();
-    const Bvh binary = Bvh::build(mesh, options);
+    BvhOptions binary_options = options;
+    binary_options.leaf_block_size = std::min(int(BlockSize), options.max_leaf_size);
+    const bvh::BinaryTree binary = bvh::build_binary_tree(mesh, binary_options);
     bvh::WideArrays<Width, BlockSize> wide = bvh::collapse_to_wide<Width, BlockSize>(
-        binary.nodes(), binary.leaf_triangles(), binary.leaf_triangle_ids(), std::uint32_t(options.max_leaf_size));
+        binary.nodes, mesh, binary.leaf_ids, std::uint32_t(options.max_leaf_size));
     const double build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
     WideBvh result;

@@ -1,6 +1,7 @@
 #pragma once
-// The wide BVH: the binary SAH tree (bvh.h) collapsed into nodes of Width children whose boxes are
-// stored by coordinate, over leaves of triangle blocks stored by coordinate (wide_node.h,
+// The wide BVH: a binary SAH tree (bvh.h, built for blocks: a node of one block's triangles is
+// split only where the collapse gains by it, BvhOptions::split_beats_block) collapsed into nodes of
+// Width children whose boxes are stored by coordinate, over leaves of triangle blocks stored by coordinate (wide_node.h,
 // wide_collapse.h). One ray tests all of a node's boxes in one vector step (wide_box_test.h) and
 // a block's triangles in another; Embree's BVH8 over triangle4 blocks is the same design.
 //

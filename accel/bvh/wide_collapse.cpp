@@ -17,11 +17,15 @@ namespace trident::bvh {
 
 namespace {
 
-/// Per leaf-order triangle: whether it has area, in parallel.
-std::vector<char> triangles_with_area(std::span<const Triangle> triangles) {
-    std::vector<char> out(triangles.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size(), 4096), [&](const auto& range) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i) out[i] = has_area(triangles[i]);
+/// Per leaf-order triangle: whether it has area, in parallel. The areas are found in file order,
+/// which reads the mesh front to back, and then looked up in leaf order.
+std::vector<char> triangles_with_area(const Mesh& mesh, std::span<const TriangleId> ids) {
+    std::vector<char> by_id(mesh.triangle_count()), out(ids.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, by_id.size(), 4096), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) by_id[i] = has_area(triangle_of(mesh, i));
+    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ids.size(), 4096), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) out[i] = by_id[ids[i]];
     });
     return out;
 }
@@ -188,12 +192,12 @@ std::uint32_t first_triangle_of(std::span<const BvhNode> nodes, std::uint32_t i)
 }  // namespace
 
 template <std::size_t Width, std::size_t BlockSize>
-WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, std::span<const Triangle> triangles,
+WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, const Mesh& mesh,
                                               std::span<const TriangleId> ids, std::uint32_t leaf_limit) {
     static_assert(Width >= 2 && Width <= 16 && BlockSize >= 1);
     WideArrays<Width, BlockSize> out;
     if (nodes.empty()) return out;
-    const std::vector<char> with_area = triangles_with_area(triangles);
+    const std::vector<char> with_area = triangles_with_area(mesh, ids);
     const CollapsePlan<Width> plan = plan_collapse<Width, BlockSize>(nodes, with_area, leaf_limit);
     const double root_area = surface_area_in_double(nodes[0].bounds);
     const auto weight = [&](std::uint32_t binary) {
@@ -205,6 +209,13 @@ WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, st
     std::vector<PlannedLeaf> leaves;
     std::vector<std::uint32_t> leaf_sources;  // the leaves' triangles, leaf by leaf
     std::vector<ChildRef> refs(Width, ChildRef::empty());  // per planned node, Width slots
+    // Reserved at their bounds (a wide node or leaf per binary node at most, each triangle once):
+    // growing them copied them into fresh memory over and over. Untouched capacity costs nothing.
+    const std::size_t binary_leaves = (nodes.size() + 1) / 2;
+    planned.reserve(binary_leaves);
+    leaves.reserve(binary_leaves);
+    leaf_sources.reserve(ids.size());
+    refs.reserve(binary_leaves * Width);
     std::uint32_t block_count = 0;
     // The root: a binary leaf (or a root that is one wide leaf) becomes the single child of node 0.
     if (plan.is_leaf(0)) {
@@ -271,7 +282,7 @@ WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, st
                 const std::uint32_t source = leaf_sources[leaf.first_source + std::min(k, leaf.triangle_count - 1)];
                 TriangleBlock<BlockSize>& block = out.blocks[leaf.first_block + k / BlockSize];
                 const std::size_t lane = k % BlockSize;
-                const Triangle& tri = triangles[source];
+                const Triangle tri = triangle_of(mesh, ids[source]);
                 for (int axis = 0; axis < 3; ++axis) {
                     block.a[axis][lane] = tri.a[axis];
                     block.b[axis][lane] = tri.b[axis];
@@ -284,9 +295,9 @@ WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, st
     return out;
 }
 
-template WideArrays<4, 4> collapse_to_wide<4, 4>(std::span<const BvhNode>, std::span<const Triangle>,
-                                                 std::span<const TriangleId>, std::uint32_t);
-template WideArrays<8, 4> collapse_to_wide<8, 4>(std::span<const BvhNode>, std::span<const Triangle>,
-                                                 std::span<const TriangleId>, std::uint32_t);
+template WideArrays<4, 4> collapse_to_wide<4, 4>(std::span<const BvhNode>, const Mesh&, std::span<const TriangleId>,
+                                                 std::uint32_t);
+template WideArrays<8, 4> collapse_to_wide<8, 4>(std::span<const BvhNode>, const Mesh&, std::span<const TriangleId>,
+                                                 std::uint32_t);
 
 }  // namespace trident::bvh

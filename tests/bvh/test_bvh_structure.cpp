@@ -4,6 +4,7 @@
 #include <tbb/task_arena.h>
 
 #include <cstring>
+#include <stdexcept>
 #include <type_traits>
 
 #include "accel/bvh/build_primitives.h"
@@ -49,6 +50,49 @@ TEST_CASE("large leaves are allowed when SAH wants them and capped by max_leaf_s
     check_invariants(bvh, mesh);
     CHECK(bvh.stats().max_leaf_size > 8);
     CHECK(bvh.stats().max_leaf_size <= 32);
+}
+
+TEST_CASE("for the wide BVH, a node of one block is split only where its children's boxes are far smaller") {
+    // Two unit quads (two triangles each, in z = 0) side by side, `gap` apart along x.
+    const auto two_quads = [](float gap) {
+        Mesh mesh;
+        for (const float x : {0.0f, 1.0f + gap}) {
+            const auto a = mesh.add_vertex({x, 0, 0}), b = mesh.add_vertex({x + 1, 0, 0});
+            const auto c = mesh.add_vertex({x + 1, 1, 0}), d = mesh.add_vertex({x, 1, 0});
+            mesh.add_triangle(a, b, c);
+            mesh.add_triangle(a, c, d);
+        }
+        return mesh;
+    };
+    const Mesh touching = two_quads(0.0f), apart = two_quads(100.0f);
+    BvhOptions spatial;
+    spatial.builder = BvhBuilder::spatial_sah;
+    for (BvhOptions options : {BvhOptions{}, spatial}) {
+        CAPTURE(to_string(options.builder));
+        // The binary tree's SAH splits the 2x1 strip: a node step and two tests a side (4 + 2 * 2 + 2 * 2)
+        // cost less than four tests over the whole strip (4 * 4).
+        const Bvh binary = Bvh::build(touching, options);
+        check_invariants(binary, touching);
+        CHECK(binary.nodes().size() > 1);
+        // Blocks of four: the quads' boxes add up to the strip's (2 + 2 against 4), so one block test
+        // over the strip is cheaper than one over each quad: a leaf.
+        options.leaf_block_size = 4;
+        const Bvh strip = Bvh::build(touching, options);
+        check_invariants(strip, touching);
+        CHECK(strip.nodes().size() == 1);
+        // 100 apart, the quads' boxes are a sliver of the node's (4 against 204): split into one leaf a
+        // quad, whose two triangles share one box and stay together.
+        const Bvh split = Bvh::build(apart, options);
+        check_invariants(split, apart);
+        REQUIRE(split.nodes().size() == 3);
+        CHECK(split.nodes()[1].triangle_count() == 2);
+        CHECK(split.nodes()[2].triangle_count() == 2);
+    }
+    BvhOptions bad;
+    for (const int size : {0, bad.max_leaf_size + 1}) {
+        bad.leaf_block_size = size;
+        CHECK_THROWS_AS(bad.validate(), std::invalid_argument);
+    }
 }
 
 TEST_CASE("the flattened tree keeps every invariant on the built-in scenes") {
