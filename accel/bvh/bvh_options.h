@@ -56,7 +56,8 @@ struct BvhOptions {
     /// and 63.8-67.8 bytes a triangle on the study scenes; never splitting such nodes filled blocks
     /// to 79-84% (59.6-63.7 bytes) but slowed Sponza's rays by up to 9%, where a few large
     /// triangles far apart share a node. 0.85 kept Sponza's and Gallery's rays within noise of the
-    /// old trees and gave 60.3-64.6 bytes a triangle (bench/experiments/bvh-build.md).
+    /// old trees and gave 60.3-64.6 bytes a triangle, before the collapse weighed memory too
+    /// (kBlockMemoryCost in wide_collapse.cpp; bench/experiments/bvh-build.md).
     static constexpr float kBlockSplitShare = 0.85f;
 
     /// For a node that fits one block: whether splitting it pays in the wide tree. As a leaf it is

@@ -8,7 +8,9 @@
 // every subtree given 1 to Width child slots, where a subtree takes one slot as a leaf (a block
 // test per block, each weighed by the leaf's area) or as a wide node of its own (a node step,
 // then its Width slots shared between its binary children), or shares more slots between its
-// children. Top-down, each wide node then takes the children that the root's cheapest form names.
+// children; each block and each node also costs its memory, which decides only in the smallest
+// subtrees (kBlockMemoryCost in wide_collapse.cpp). Top-down, each wide node then takes the
+// children that the root's cheapest form names.
 // Against opening the largest child until Width are held, it fills nodes with 7 children on
 // average instead of 3.8 (bench/experiments/bvh-traversal.md).
 //

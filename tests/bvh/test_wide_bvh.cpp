@@ -202,6 +202,34 @@ TEST_CASE("the wide layout holds every triangle once, inside its boxes, for ever
     });
 }
 
+TEST_CASE("in the smallest subtrees the collapse keeps one fuller block rather than two leaves of a few triangles") {
+    // Two unit quads 2 apart (a 4x1 strip whose quads' boxes hold half its area: the binary tree
+    // splits it), scaled by `scale`, and a unit triangle 2 above them.
+    const auto quads_and_triangle = [](float scale) {
+        Mesh mesh;
+        for (const float x : {0.0f, 3.0f}) {
+            const auto a = mesh.add_vertex(Vec3f{x, 0, 0} * scale), b = mesh.add_vertex(Vec3f{x + 1, 0, 0} * scale);
+            const auto c = mesh.add_vertex(Vec3f{x + 1, 1, 0} * scale), d = mesh.add_vertex(Vec3f{x, 1, 0} * scale);
+            mesh.add_triangle(a, b, c);
+            mesh.add_triangle(a, c, d);
+        }
+        mesh.add_triangle(mesh.add_vertex({0, 0, 2}), mesh.add_vertex({1, 0, 2}), mesh.add_vertex({0, 1, 2}));
+        return mesh;
+    };
+    // At full size a leaf a quad saves the strip's rays half their block tests: three leaves.
+    for_each_wide_tree(quads_and_triangle(1.0f), {}, [&](const auto& wide) {
+        check_layout(wide, quads_and_triangle(1.0f));
+        CHECK(wide.stats().leaves == 3);
+    });
+    // A thousandth of the size, the strip's area is a millionth of the root's: what a second block
+    // saves its rays is less than the block's memory costs, so the strip is one leaf of one block.
+    for_each_wide_tree(quads_and_triangle(1e-3f), {}, [&](const auto& wide) {
+        check_layout(wide, quads_and_triangle(1e-3f));
+        CHECK(wide.stats().leaves == 2);
+        CHECK(wide.blocks().size() == 2);
+    });
+}
+
 TEST_CASE("zero-area triangles are left out of the blocks and never hit, as the binary tree never hits them") {
     // Points and segments among real triangles, and a mesh of nothing else (leaves without blocks).
     Mesh mixed = random_soup(300, 41, 0.15f), degenerate;
