@@ -1,9 +1,10 @@
 #pragma once
 // The wide BVH: a binary SAH tree (bvh.h, built for blocks: a node of one block's triangles is
 // split only where the collapse gains by it, BvhOptions::split_beats_block) collapsed into nodes of
-// Width children whose boxes are stored by coordinate, over leaves of triangle blocks stored by coordinate (wide_node.h,
-// wide_collapse.h). One ray tests all of a node's boxes in one vector step (wide_box_test.h) and
-// a block's triangles in another; Embree's BVH8 over triangle4 blocks is the same design.
+// Width children whose boxes are stored by coordinate, over leaves of triangle blocks stored by
+// coordinate (wide_node.h, wide_collapse.h). One ray tests all of a node's boxes in one vector
+// step (wide_box_test.h) and a block's triangles in another; Embree's BVH8 over triangle4 blocks
+// is the same design.
 //
 // Closest hit: the children a ray enters are visited near to far (sorted by entry distance; the
 // far ones stacked with it, so a popped one beyond the closest hit is skipped). Any hit: no sort,

@@ -44,11 +44,11 @@ struct WideArrays {
 
 /// The wide tree over the binary tree `nodes` (depth-first, root first) whose leaves cover the
 /// triangles `ids` of `mesh` in leaf order (the corners are read from the mesh: the binary tree's
-/// leaf-order copy of them, 36 bytes a triangle, would be written only to be read once). A leaf gathers a binary subtree of at most
-/// min(leaf_limit, 2 * BlockSize) triangles (a binary leaf larger than that stays one leaf), each
-/// id once where spatial splits put a triangle in several of the subtree's binary leaves.
-/// Blocks are filled in parallel; the result does not depend on the number of threads. An empty
-/// tree gives no nodes.
+/// leaf-order copy of them, 36 bytes a triangle, would be written only to be read once). A leaf
+/// gathers a binary subtree of at most min(leaf_limit, 2 * BlockSize) triangles (a binary leaf
+/// larger than that stays one leaf), each id once where spatial splits put a triangle in several
+/// of the subtree's binary leaves. Blocks are filled in parallel; the result does not depend on
+/// the number of threads. An empty tree gives no nodes.
 template <std::size_t Width, std::size_t BlockSize>
 WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, const Mesh& mesh,
                                               std::span<const TriangleId> ids, std::uint32_t leaf_limit);

@@ -74,8 +74,8 @@ TEST_CASE("for the wide BVH, a node of one block is split only where its childre
         const Bvh binary = Bvh::build(touching, options);
         check_invariants(binary, touching);
         CHECK(binary.nodes().size() > 1);
-        // Blocks of four: the quads' boxes add up to the strip's (2 + 2 against 4), so one block test
-        // over the strip is cheaper than one over each quad: a leaf.
+        // Blocks of four: the quads' boxes add up to the strip's (2 + 2 against 4), so a block test over
+        // each quad costs as much as one over the strip, and the split would take a slot more: a leaf.
         options.leaf_block_size = 4;
         const Bvh strip = Bvh::build(touching, options);
         check_invariants(strip, touching);
