@@ -72,6 +72,11 @@ struct Lanes<xsimd::batch<float, Arch>> {
             return {xsimd::select(swap_xy, y, x), xsimd::select(swap_xy, x, y), z};
         }
     };
+    /// One ray's permutation (Lanes<float>'s) in every lane.
+    static AxisPermutation broadcast(const Lanes<float>::AxisPermutation& one) {
+        const bool swap_xy = one.kx != (one.kz == 2 ? 0 : one.kz + 1);  // as permutation_to_z numbers them
+        return {Mask(one.kz == 0), Mask(one.kz == 1), Mask(swap_xy), true, one.kx, one.ky, one.kz};
+    }
     static AxisPermutation major_axis_to_z(const Vec3T<Float>& dir) {
         // largest_abs_axis: |x| >= |y| ? (|x| >= |z| ? x : z) : (|y| >= |z| ? y : z)
         const Float ax = xsimd::abs(dir.x), ay = xsimd::abs(dir.y), az = xsimd::abs(dir.z);

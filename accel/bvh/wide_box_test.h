@@ -9,6 +9,15 @@
 // return their second operand for NaN (core/slab_test.h, clip_to_ordered_slab). Fast: the same
 // without the widening. Either way an unused slot's empty box [+inf, -inf] has its near plane at
 // +inf along the ray, so no ray enters it.
+//
+// The walk waits on this test node after node (the next node's address comes out of it), so it is
+// written for a short chain rather than as three clip_to_ordered_slab steps: Ize's widening is
+// folded into a second reciprocal once per ray (his inv_dir_pad), which takes its product off the
+// chain, and entry and exit are reduced in pairs. The folded factor is still enough: a far distance
+// carries four roundings either way (the reciprocal, the difference, the product, and the factor's
+// product with one or the other). NaN keeps its rule for x, paired with t_min; a NaN in y or z also
+// drops the other slab of their pair: a looser, still conservative, test for an origin exactly on a
+// plane the ray runs along.
 #include <algorithm>
 #include <array>
 #include <cstddef>
@@ -60,6 +69,7 @@ public:
             const float inv_dir = 1.0f / ray.dir[axis];  // +-inf for +-0
             origin_[axis] = Float(ray.origin[axis]);
             inv_dir_[axis] = Float(inv_dir);
+            inv_dir_far_[axis] = Float(Slabs == SlabTest::robust ? inv_dir * detail::kFarScale : inv_dir);
             const bool negative = inv_dir < 0.0f;
             near_row_[axis] = near_row(axis, negative);
             far_row_[axis] = far_row(axis, negative);
@@ -69,14 +79,17 @@ public:
     /// Bit k set when child k's box meets [t_min, t_max]; its entry distance in t_entry[k].
     std::uint32_t enter(const WideNode<Width>& node, float t_min, float t_max,
                         std::array<float, Width>& t_entry) const {
+        using L = Lanes<Float>;
         std::uint32_t entered = 0;
         for (std::size_t first = 0; first < Width; first += kChunk) {
-            Float entry(t_min), exit(t_max);
-            for (int axis = 0; axis < 3; ++axis) {
-                detail::clip_to_ordered_slab<Slabs>(Float::load_aligned(node.bounds[near_row_[axis]] + first),
-                                                    Float::load_aligned(node.bounds[far_row_[axis]] + first),
-                                                    origin_[axis], inv_dir_[axis], entry, exit);
-            }
+            const auto near = [&](int axis) {
+                return (Float::load_aligned(node.bounds[near_row_[axis]] + first) - origin_[axis]) * inv_dir_[axis];
+            };
+            const auto far = [&](int axis) {
+                return (Float::load_aligned(node.bounds[far_row_[axis]] + first) - origin_[axis]) * inv_dir_far_[axis];
+            };
+            const Float entry = L::max(L::max(near(1), near(2)), L::max(near(0), Float(t_min)));
+            const Float exit = L::min(L::min(far(1), far(2)), L::min(far(0), Float(t_max)));
             entry.store_unaligned(t_entry.data() + first);
             entered |= simd::mask_bits(entry <= exit) << first;
         }
@@ -84,7 +97,7 @@ public:
     }
 
 private:
-    Float origin_[3], inv_dir_[3];
+    Float origin_[3], inv_dir_[3], inv_dir_far_[3];
     int near_row_[3], far_row_[3];
 };
 

@@ -151,8 +151,15 @@ Hit WideBvh<Width, BlockSize>::traverse(const Ray& ray, bvh::ChildRef start, Hit
     using BlockLanes = Lanes<BlockFloat>;
     if (nodes_.empty()) return best;
     const bvh::WideBoxTest<Width, Slabs> box_test(ray);
-    const TriangleIntersectorT<Test, BlockFloat> block_test(Vec3T<BlockFloat>(ray.origin), Vec3T<BlockFloat>(ray.dir),
-                                                            BlockFloat(ray.tmin));
+    const auto block_test = [&] {
+        if constexpr (Test == TriangleTest::watertight)  // set up in scalar, then broadcast
+            return TriangleIntersectorT<Test, BlockFloat>(TriangleIntersectorT<Test, float>(ray));
+        else
+            return TriangleIntersectorT<Test, BlockFloat>(Vec3T<BlockFloat>(ray.origin), Vec3T<BlockFloat>(ray.dir),
+                                                          BlockFloat(ray.tmin));
+    }();
+    std::array<int, 3> ray_axes{0, 1, 2};  // the watertight test's x, y, z: rows of a block's corners
+    if constexpr (Test == TriangleTest::watertight) ray_axes = block_test.ray_axes();
     struct StackEntry {
         bvh::ChildRef ref;
         float t_entry;
@@ -206,12 +213,30 @@ Hit WideBvh<Width, BlockSize>::traverse(const Ray& ray, bvh::ChildRef start, Hit
                 for (std::uint32_t k = 0; k < std::min<std::uint32_t>(remaining, BlockSize); ++k)
                     counters.test_triangle();
                 remaining -= std::min<std::uint32_t>(remaining, BlockSize);
-                const auto load = [](const float(&corner)[3][BlockSize]) {
-                    return Vec3T<BlockFloat>(BlockFloat::load_aligned(corner[0]), BlockFloat::load_aligned(corner[1]),
-                                             BlockFloat::load_aligned(corner[2]));
+                const auto load = [&](const float(&corner)[3][BlockSize], const std::array<int, 3>& rows) {
+                    return Vec3T<BlockFloat>(BlockFloat::load_aligned(corner[rows[0]]),
+                                             BlockFloat::load_aligned(corner[rows[1]]),
+                                             BlockFloat::load_aligned(corner[rows[2]]));
                 };
-                const auto hit = block_test.template intersect<ZeroAreaTriangles::left_out_by_caller>(
-                    load(block.a), load(block.b), load(block.c), BlockFloat(bvh::triangle_limit(best)), h);
+                constexpr std::array<int, 3> kAsStored{0, 1, 2};
+                constexpr auto kZeroArea = ZeroAreaTriangles::left_out_by_caller;
+                const BlockFloat limit(bvh::triangle_limit(best));
+                const auto hit = [&] {
+                    if constexpr (Test == TriangleTest::watertight) {
+                        // The corners loaded in the ray's axes (its rows picked once a ray); the
+                        // rare checks in double read them again as stored.
+                        const auto as_stored = [&] {
+                            return std::array{load(block.a, kAsStored), load(block.b, kAsStored),
+                                              load(block.c, kAsStored)};
+                        };
+                        return block_test.template intersect_in_ray_axes<kZeroArea>(
+                            load(block.a, ray_axes), load(block.b, ray_axes), load(block.c, ray_axes), limit, h,
+                            as_stored);
+                    } else {
+                        return block_test.template intersect<kZeroArea>(
+                            load(block.a, kAsStored), load(block.b, kAsStored), load(block.c, kAsStored), limit, h);
+                    }
+                }();
                 std::uint32_t lanes = BlockLanes::bits(hit);
                 if (lanes == 0) continue;
                 const auto t = BlockLanes::to_array(h.t), u = BlockLanes::to_array(h.u), v = BlockLanes::to_array(h.v);

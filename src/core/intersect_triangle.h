@@ -12,6 +12,7 @@
 // of a packet gives the same hit, t, u and v bits as the scalar test on that lane's ray.
 #include <array>
 #include <bit>
+#include <cassert>
 #include <concepts>
 #include <cstdint>
 #include <optional>
@@ -167,7 +168,11 @@ public:
     using Mask = typename L::Mask;
 
     TriangleIntersectorT(const Vec3T<T>& origin, const Vec3T<T>& dir, T tmin)
-        : origin_(origin), dir_(dir), tmin_(tmin), axes_(L::major_axis_to_z(dir)) {
+        : origin_(origin),
+          dir_(dir),
+          tmin_(tmin),
+          axes_(L::major_axis_to_z(dir)),
+          origin_in_ray_axes_(axes_.apply(origin)) {
         const Vec3T<T> d = axes_.apply(dir);
         sx_ = d.x / d.z;
         sy_ = d.y / d.z;
@@ -175,6 +180,19 @@ public:
     }
     explicit TriangleIntersectorT(const Ray& ray) requires std::same_as<T, float>
         : TriangleIntersectorT(ray.origin, ray.dir, ray.tmin) {}
+    /// Every lane set up for one ray: its scalar set-up broadcast, for one ray against a batch of
+    /// triangles. The same bits as the set-up over broadcast vectors (each value is the same
+    /// operation on the same operands), without its lane-wise selects and lane-indexed loads.
+    explicit TriangleIntersectorT(const TriangleIntersectorT<TriangleTest::watertight, float>& one_ray)
+        requires(!std::same_as<T, float>)
+        : origin_(one_ray.origin_),
+          dir_(one_ray.dir_),
+          tmin_(one_ray.tmin_),
+          axes_(L::broadcast(one_ray.axes_)),
+          origin_in_ray_axes_(one_ray.origin_in_ray_axes_),
+          sx_(one_ray.sx_),
+          sy_(one_ray.sy_),
+          sz_(one_ray.sz_) {}
 
     Mask intersect(const Triangle& tri, T t_limit, TriangleHitT<T>& out) const {
         return intersect(Vec3T<T>(tri.a), Vec3T<T>(tri.b), Vec3T<T>(tri.c), t_limit, out);
@@ -183,9 +201,50 @@ public:
     template <ZeroAreaTriangles ZeroArea = ZeroAreaTriangles::dropped_by_test>
     Mask intersect(const Vec3T<T>& tri_a, const Vec3T<T>& tri_b, const Vec3T<T>& tri_c, T t_limit,
                    TriangleHitT<T>& out) const {
+        return sheared<ZeroArea>(axes_.apply(tri_a - origin_), axes_.apply(tri_b - origin_),
+                                 axes_.apply(tri_c - origin_), t_limit, out,
+                                 [&] { return std::array{tri_a, tri_b, tri_c}; });
+    }
+
+    /// Which of the world's axes become the test's x, y and z (z: the direction's largest); one
+    /// permutation for every lane, which holds where all lanes trace one ray.
+    std::array<int, 3> ray_axes() const {
+        assert(uniform_axes());
+        return {axes_.kx, axes_.ky, axes_.kz};
+    }
+
+    /// The same test for corners given in the ray's axes (component i of each is the world's
+    /// ray_axes()[i]): triangles stored by coordinate are loaded so as they stand, where the
+    /// permutation would otherwise pick components triangle by triangle. Differences and
+    /// permutations commute exactly, so the hits are the same bits as intersect()'s.
+    /// `world_corners()` returns the corners in the world's axes (a std::array of three) for the
+    /// rare checks in double; a caller that holds the triangles in memory reads them again there
+    /// (capturing these corners instead kept them in memory on every test: 4-11% slower).
+    template <ZeroAreaTriangles ZeroArea = ZeroAreaTriangles::dropped_by_test, class WorldCorners>
+    Mask intersect_in_ray_axes(const Vec3T<T>& a, const Vec3T<T>& b, const Vec3T<T>& c, T t_limit, TriangleHitT<T>& out,
+                               const WorldCorners& world_corners) const {
+        assert(uniform_axes());
+        return sheared<ZeroArea>(a - origin_in_ray_axes_, b - origin_in_ray_axes_, c - origin_in_ray_axes_, t_limit,
+                                 out, world_corners);
+    }
+
+private:
+    template <TriangleTest, class>
+    friend class TriangleIntersectorT;  // the scalar set-up read by the broadcasting constructor
+
+    bool uniform_axes() const {
+        if constexpr (std::same_as<T, float>)
+            return true;
+        else
+            return axes_.uniform;
+    }
+
+    /// The test on the corners moved to the ray's origin and permuted to its axes; `world_corners`
+    /// gives them as the caller has them, for the rare checks in double.
+    template <ZeroAreaTriangles ZeroArea, class WorldCorners>
+    Mask sheared(const Vec3T<T>& a, const Vec3T<T>& b, const Vec3T<T>& c, T t_limit, TriangleHitT<T>& out,
+                 const WorldCorners& world_corners) const {
         const T zero(0.0f);
-        const Vec3T<T> a = axes_.apply(tri_a - origin_), b = axes_.apply(tri_b - origin_),
-                       c = axes_.apply(tri_c - origin_);
         const T ax = a.x - sx_ * a.z, ay = a.y - sy_ * a.z;
         const T bx = b.x - sx_ * b.z, by = b.y - sy_ * b.z;
         const T cx = c.x - sx_ * c.z, cy = c.y - sy_ * c.z;
@@ -212,10 +271,12 @@ public:
         if (L::none(hit)) return hit;
         const Mask near_origin = t <= t_rounding_bound(ax, ay, bx, by, cx, cy, a.z, b.z, c.z, u, v, w, inv_det);
         if (L::any(hit & near_origin)) {
+            const auto [tri_a, tri_b, tri_c] = world_corners();
             hit = detail::drop_crossings_before_tmin(hit, near_origin, tri_a, tri_b, tri_c, origin_, dir_, tmin_);
             if (L::none(hit)) return hit;
         }
         if constexpr (ZeroArea == ZeroAreaTriangles::dropped_by_test) {
+            const auto [tri_a, tri_b, tri_c] = world_corners();
             hit = detail::drop_zero_area(hit, tri_a, tri_b, tri_c);
             if (L::none(hit)) return hit;
         }
@@ -223,7 +284,6 @@ public:
         return hit;
     }
 
-private:
     /// A bound on the rounding error of t, after the analysis of pbrt-v3 (section 3.9.6) for this
     /// same test, from the magnitudes of the sheared corners (x, y and the unscaled z, in units of
     /// length) and of the edge functions. pbrt adds z to x and y after scaling it by 1 / dir.z,
@@ -253,6 +313,7 @@ private:
     Vec3T<T> origin_, dir_;
     T tmin_;
     typename L::AxisPermutation axes_;
+    Vec3T<T> origin_in_ray_axes_;
     T sx_, sy_, sz_;
 };
 

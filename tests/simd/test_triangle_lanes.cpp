@@ -167,35 +167,59 @@ void compare_ray_packets(const Case& c, Mismatches& m) {
     }
 }
 
+/// How a test of one ray against a triangle per lane is set up: from the ray broadcast to vectors,
+/// with the corners as stored; or as the wide BVH sets it up (the scalar set-up broadcast, the
+/// corners loaded in the ray's axes, its rare checks handed the corners as stored; watertight only).
+enum class OneRaySetUp { broadcast_ray, scalar_in_ray_axes };
+
 /// One ray broadcast to all lanes against a different triangle per lane (the leaf-wide layout).
-template <class Arch, TriangleTest Test>
+template <class Arch, TriangleTest Test, OneRaySetUp SetUp = OneRaySetUp::broadcast_ray>
 void compare_triangle_packets(const Case& c, Mismatches& m) {
     using Float = xsimd::batch<float, Arch>;
     using L = Lanes<Float>;
     constexpr std::size_t width = Float::size;
+    constexpr std::array<int, 3> kAsStored{0, 1, 2};
     for (std::size_t r = 0; r < c.rays.size(); ++r) {
         const Ray& ray = c.rays[r];
-        const TriangleIntersectorT<Test, Float> packet_test(Vec3T<Float>(ray.origin), Vec3T<Float>(ray.dir),
-                                                            Float(ray.tmin));
         const TriangleIntersector<Test> scalar_test(ray);
+        const auto packet_test = [&] {
+            if constexpr (SetUp == OneRaySetUp::scalar_in_ray_axes)
+                return TriangleIntersectorT<Test, Float>(scalar_test);
+            else
+                return TriangleIntersectorT<Test, Float>(Vec3T<Float>(ray.origin), Vec3T<Float>(ray.dir),
+                                                         Float(ray.tmin));
+        }();
         for (std::size_t first = 0; first < c.triangles.size(); first += width) {
             const std::size_t count = std::min(width, c.triangles.size() - first);
-            std::array<typename L::Array, 9> corners{};  // a.x a.y a.z b.x ... c.z, lane by lane
-            for (std::size_t i = 0; i < width; ++i) {
-                const Triangle& tri = c.triangles[first + std::min(i, count - 1)];
-                for (int axis = 0; axis < 3; ++axis) {
-                    corners[axis][i] = tri.a[axis];
-                    corners[3 + axis][i] = tri.b[axis];
-                    corners[6 + axis][i] = tri.c[axis];
+            // Corner k of the lanes' triangles, its components from the rows named (the last
+            // triangle repeated past the end).
+            auto corner = [&](int k, const std::array<int, 3>& rows) {
+                Vec3T<Float> out;
+                for (int i = 0; i < 3; ++i) {
+                    typename L::Array lanes{};
+                    for (std::size_t lane = 0; lane < width; ++lane) {
+                        const Triangle& tri = c.triangles[first + std::min(lane, count - 1)];
+                        lanes[lane] = (k == 0 ? tri.a : k == 1 ? tri.b : tri.c)[rows[std::size_t(i)]];
+                    }
+                    out[i] = L::from_array(lanes);
                 }
-            }
-            auto corner = [&](int k) {
-                return Vec3T<Float>(L::from_array(corners[3 * k]), L::from_array(corners[3 * k + 1]),
-                                    L::from_array(corners[3 * k + 2]));
+                return out;
             };
             TriangleHitT<Float> out{};
-            const std::uint32_t hit_bits =
-                L::bits(packet_test.intersect(corner(0), corner(1), corner(2), Float(ray.tmax), out));
+            const auto hit = [&] {
+                if constexpr (SetUp == OneRaySetUp::scalar_in_ray_axes) {
+                    const std::array<int, 3> axes = packet_test.ray_axes();
+                    const auto as_stored = [&] {
+                        return std::array{corner(0, kAsStored), corner(1, kAsStored), corner(2, kAsStored)};
+                    };
+                    return packet_test.intersect_in_ray_axes(corner(0, axes), corner(1, axes), corner(2, axes),
+                                                             Float(ray.tmax), out, as_stored);
+                } else {
+                    return packet_test.intersect(corner(0, kAsStored), corner(1, kAsStored), corner(2, kAsStored),
+                                                 Float(ray.tmax), out);
+                }
+            }();
+            const std::uint32_t hit_bits = L::bits(hit);
             const auto t = L::to_array(out.t), u = L::to_array(out.u), v = L::to_array(out.v);
             for (std::size_t i = 0; i < count; ++i) {
                 TriangleHit h{};
@@ -222,6 +246,13 @@ void check_all_widths_match_scalar(const Case& c, bool expect_edge_hits) {
         CHECK(triangles.lanes == rays.lanes);
         CHECK(rays.hits > 0);
         if (expect_edge_hits) CHECK(rays.hit_on_edge > 0);
+        if constexpr (Test == TriangleTest::watertight) {
+            Mismatches in_ray_axes;
+            compare_triangle_packets<Arch, Test, OneRaySetUp::scalar_in_ray_axes>(c, in_ray_axes);
+            INFO("triangle packets in the ray's axes: ", in_ray_axes.first);
+            CHECK(in_ray_axes.wrong == 0);
+            CHECK(in_ray_axes.lanes == rays.lanes);
+        }
     });
 }
 
