@@ -67,12 +67,14 @@ public:
 
     template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Counters>
     Hit intersect(const Ray& ray, Counters& counters) const {
-        const Hit hit = traverse<false, Test, Slabs>(ray, bvh::ChildRef::node(0), Hit{kNoTriangle, ray.tmax}, counters);
+        const Hit hit =
+            traverse<false, Test, Slabs>(ray, bvh::ChildRef::node_at(0), Hit{kNoTriangle, ray.tmax}, counters);
         return hit.is_hit() ? hit : Hit{};
     }
     template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Counters>
     bool occluded(const Ray& ray, Counters& counters) const {
-        return traverse<true, Test, Slabs>(ray, bvh::ChildRef::node(0), Hit{kNoTriangle, ray.tmax}, counters).is_hit();
+        return traverse<true, Test, Slabs>(ray, bvh::ChildRef::node_at(0), Hit{kNoTriangle, ray.tmax}, counters)
+            .is_hit();
     }
     Hit intersect(const Ray& ray) const {
         NoCounters c;
@@ -121,9 +123,15 @@ private:
     /// decides which children it enters well before it steps into them (Embree prefetches so).
     void prefetch(bvh::ChildRef child) const {
         const char* start = child.is_leaf() ? reinterpret_cast<const char*>(blocks_.data() + child.first_block())
-                                            : reinterpret_cast<const char*>(nodes_.data() + child.node_index());
+                                            : reinterpret_cast<const char*>(&node_at(child));
         constexpr std::size_t kBytes = std::max(sizeof(Node), sizeof(Block));
         for (std::size_t offset = 0; offset < kBytes; offset += 64) __builtin_prefetch(start + offset);
+    }
+
+    /// The node a reference names (not a leaf's).
+    const Node& node_at(bvh::ChildRef ref) const {
+        assert(!ref.is_leaf());
+        return *reinterpret_cast<const Node*>(reinterpret_cast<const char*>(nodes_.data()) + ref.node_offset());
     }
 
     HugePageArray<Node> nodes_;
@@ -170,7 +178,7 @@ Hit WideBvh<Width, BlockSize>::traverse(const Ray& ray, bvh::ChildRef start, Hit
     std::array<float, Width> t_entry;
     for (;;) {
         if (!current.is_leaf()) {
-            const Node& node = nodes_[current.node_index()];
+            const Node& node = node_at(current);
             counters.visit_node();
             std::uint32_t entered = box_test.enter(node, ray.tmin, bvh::prune_limit(best.t), t_entry);
             if (entered != 0) {

@@ -258,7 +258,11 @@ WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, co
                 out.max_leaf_triangles = std::max<std::size_t>(out.max_leaf_triangles, count);
             } else {
                 const auto index = std::uint32_t(planned.size());
-                refs[next * Width + k] = ChildRef::node(index);
+                if (std::uint64_t(index) * sizeof(WideNode<Width>) > ChildRef::kMaxNodeOffset)
+                    throw std::length_error("wide BVH: more than " +
+                                            std::to_string(ChildRef::kMaxNodeOffset / sizeof(WideNode<Width>)) +
+                                            " nodes");
+                refs[next * Width + k] = ChildRef::node_at(std::uint32_t(index * sizeof(WideNode<Width>)));
                 const PlannedNode<Width> child = plan_node(plan, nodes, b, index, node.depth + 1);
                 out.sah_cost += weight(b) * kNodeStepCost;
                 out.max_depth = std::max<std::size_t>(out.max_depth, child.depth);

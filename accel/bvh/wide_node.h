@@ -9,18 +9,23 @@
 
 namespace trident::bvh {
 
-/// A reference to a wide node's child: an interior node's index, or a leaf's run of blocks with
-/// the number of triangles it holds (for the counters and statistics: a leaf's last block is
-/// padded with copies of its last triangle). kEmptyChild fills the unused slots of a node.
+/// A reference to a wide node's child: an interior node's byte offset in the node array, or a
+/// leaf's run of blocks with the number of triangles it holds (for the counters and statistics: a
+/// leaf's last block is padded with copies of its last triangle). empty() fills the unused slots
+/// of a node. An offset rather than an index: the walk goes from node to node by loading a child's
+/// reference and then the child, and an index would put a multiplication by the node's size
+/// between the two loads, on the chain of dependent loads the walk waits on (Embree's references
+/// are pointers).
 class ChildRef {
 public:
     static constexpr std::uint32_t kLeafBit = 1u << 31;
     static constexpr int kCountShift = 23;
     static constexpr std::uint32_t kMaxLeafTriangles = 255;
     static constexpr std::uint32_t kMaxFirstBlock = (1u << kCountShift) - 1;
+    static constexpr std::uint32_t kMaxNodeOffset = kLeafBit - 1;
 
     ChildRef() = default;  // uninitialized, for stacks
-    static constexpr ChildRef node(std::uint32_t index) { return ChildRef(index); }
+    static constexpr ChildRef node_at(std::uint32_t byte_offset) { return ChildRef(byte_offset); }
     static constexpr ChildRef leaf(std::uint32_t first_block, std::uint32_t triangle_count) {
         return ChildRef(kLeafBit | triangle_count << kCountShift | first_block);
     }
@@ -28,7 +33,7 @@ public:
 
     constexpr bool is_leaf() const { return (bits_ & kLeafBit) != 0; }
     constexpr bool is_empty() const { return bits_ == empty().bits_; }
-    constexpr std::uint32_t node_index() const { return bits_; }
+    constexpr std::uint32_t node_offset() const { return bits_; }
     constexpr std::uint32_t first_block() const { return bits_ & kMaxFirstBlock; }
     constexpr std::uint32_t triangle_count() const { return (bits_ & ~kLeafBit) >> kCountShift; }
     /// Blocks of the leaf: its triangles, rounded up to whole blocks.

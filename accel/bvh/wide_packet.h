@@ -229,7 +229,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
     Float stack_t_entry[kStackSize];
     bvh::ChildRef stack_ref[kStackSize];
     std::size_t stack_size = 0;
-    bvh::ChildRef current = bvh::ChildRef::node(0);
+    bvh::ChildRef current = bvh::ChildRef::node_at(0);
     Mask lanes = live;
     for (;;) {
         // Lanes that walk the current subtree alone; one call site, as the single-ray walk is
@@ -238,7 +238,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
         if (simd::active_lane_count(lanes) <= single_ray_lanes) {
             alone = simd::mask_bits(lanes);
         } else if (!current.is_leaf()) {
-            const Node& node = nodes_[current.node_index()];
+            const Node& node = node_at(current);
             counters.visit_node();
             std::uint32_t candidates = kAllChildren;
             std::array<float, Width> entry_lo;

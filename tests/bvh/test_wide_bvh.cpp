@@ -59,7 +59,9 @@ void check_layout(const WideBvh<Width, BlockSize>& wide, const Mesh& mesh) {
             box.hi = {node.bounds[bvh::upper_row(0)][k], node.bounds[bvh::upper_row(1)][k],
                       node.bounds[bvh::upper_row(2)][k]};
             if (!ref.is_leaf()) {
-                self(self, ref.node_index(), depth + 1);
+                // A node's byte offset in the node array: a whole node from its start.
+                REQUIRE(ref.node_offset() % sizeof(typename Tree::Node) == 0);
+                self(self, std::uint32_t(ref.node_offset() / sizeof(typename Tree::Node)), depth + 1);
                 continue;
             }
             ++leaves;
