@@ -18,6 +18,8 @@
 #              the diffuse rows are the run's slowest), the same traversals, threads and Embree calls:
 #              the study's question per ray kind, shadow and diffuse rays against Embree, and shadow
 #              rays' any hit against closest hit (--paired closest).
+#   spatial    the wide BVH with spatial splits (--bvh-builder spatial) and Embree's high-quality build,
+#              one thread, the study's seven scenes: their build times.
 #   portable   the portable build (build-portable/, what `run.sh test` and users get) against this
 #              native one on the same rays, in pairs seconds apart (bench/compare_builds.py): the
 #              built-in scenes, every structure, width and ray kind, one thread.
@@ -98,6 +100,12 @@ step primary $bench --scenes $scenes "${only[@]}" --rays primary --simd scalar,s
 step ray_kinds $bench --scenes $scenes "${only[@]}" --rays primary,shadow,diffuse --simd scalar,simd8,simd16 \
     --threads 1,2 --embree 1,8,16 --paired bvh,embree,closest "${secondary_size[@]}" "${repeats[@]}" --quiet \
     --json $out/ray_kinds.json --markdown $out/ray_kinds.md --csv $out/ray_kinds.csv
+# The wide BVH built with spatial splits (--bvh-builder spatial, the higher-quality option) beside
+# Embree's high-quality build, one thread: issue 31's build-time target for it. Build times only,
+# so a small image.
+step spatial $bench --scenes $scenes "${only[@]}" --accel bvh --bvh-builder spatial --rays primary --simd scalar \
+    --threads 1 --embree 1 --width 320 --height 180 "${repeats[@]}" --quiet --json $out/spatial.json \
+    --csv $out/spatial.csv
 step portable $python bench/compare_builds.py build-portable/trident-bench $bench --rounds $portable_rounds \
     --each-scene $portable_scenes --each-accel bvh,bvh2,kdtree,octree --json $out/portable.json \
     --markdown $out/portable.md -- --simd scalar,simd4,simd8,simd16 --rays primary,shadow,diffuse --threads 1 \
@@ -132,7 +140,8 @@ for chart in chart_paths:
     title = titles.get(os.path.basename(path), os.path.basename(path))
     charts.append({"title": title + ("" if kind == "charts" else ", " + kind), "path": path})
 run = {"commit": commit, "dirty": dirty != "0", "date": date, "steps": steps,
-       "runs": [{"name": "primary", "json": "primary.json"}, {"name": "ray_kinds", "json": "ray_kinds.json"}],
+       "runs": [{"name": "primary", "json": "primary.json"}, {"name": "ray_kinds", "json": "ray_kinds.json"},
+                {"name": "spatial", "json": "spatial.json"}],
        "charts": charts}
 for name in ("portable", "setup", "python"):
     if os.path.exists(os.path.join(os.path.dirname(manifest), name + ".json")):
