@@ -46,7 +46,7 @@ public:
     AccelKind kind() const { return kind_; }
 
 private:
-    using Structure = std::variant<BruteForce, Bvh, WideBvh<4, 4>, WideBvh<8, 4>, KdTree, Octree>;
+    using Structure = std::variant<BruteForce, Bvh, WideBvh<4, 4>, WideBvh<8, 4>, WideBvh<16, 4>, KdTree, Octree>;
     AnyAccel(AccelKind kind, Structure structure) : kind_(kind), structure_(std::move(structure)) {}
     AccelKind kind_;
     Structure structure_;
@@ -82,6 +82,7 @@ inline AnyAccel AnyAccel::build(AccelKind kind, const Mesh& mesh, const AccelOpt
             switch (options.bvh.width) {
                 case 4: return AnyAccel(kind, WideBvh<4, 4>::build(mesh, options.bvh));
                 case 8: return AnyAccel(kind, WideBvh<8, 4>::build(mesh, options.bvh));
+                case 16: return AnyAccel(kind, WideBvh<16, 4>::build(mesh, options.bvh));
                 default: return AnyAccel(kind, Bvh::build(mesh, options.bvh));  // width 2
             }
         case AccelKind::bvh2: return AnyAccel(kind, Bvh::build(mesh, options.bvh));

@@ -39,7 +39,8 @@ void BvhOptions::validate() const {
     if (!(std::isfinite(traversal_cost) && traversal_cost >= 0.0f)) fail("traversal_cost must be finite and >= 0");
     if (!(std::isfinite(intersection_cost) && intersection_cost > 0.0f))
         fail("intersection_cost must be finite and > 0");
-    if (width != 2 && width != 4 && width != 8) fail("width " + std::to_string(width) + " is not 2, 4 or 8");
+    if (width != 2 && width != 4 && width != 8 && width != 16)
+        fail("width " + std::to_string(width) + " is not 2, 4, 8 or 16");
     if (max_leaf_size < 1 || max_leaf_size > kMaxLeafSizeLimit)
         fail("max_leaf_size " + std::to_string(max_leaf_size) + " is outside [1, " + std::to_string(kMaxLeafSizeLimit) +
              "]");

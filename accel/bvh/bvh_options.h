@@ -42,10 +42,12 @@ struct BvhOptions {
     /// in [0, kMaxSpatialSplitBudget] (0: object splits only).
     float spatial_split_budget = 0.5f;
     static constexpr float kMaxSpatialSplitBudget = 4.0f;
-    /// Children per node of AccelKind::bvh's tree: 2 (the binary tree), 4 or 8 (the wide BVH,
-    /// wide_bvh.h, built by collapsing the binary one). 8 is the fastest on every AVX2 and
-    /// AVX-512 machine measured (bench/experiments/bvh_traversal.md).
-    int width = 8;
+    /// Children per node of AccelKind::bvh's tree: 2 (the binary tree), 4, 8 or 16 (the wide BVH,
+    /// wide_bvh.h, built by collapsing the binary one). 16 is the fastest under both the AVX-512
+    /// kernels (one vector a row) and the AVX2 ones (two): a ray passes three or four fewer nodes
+    /// between the root and a leaf, and the walk waits on each node's loads in turn
+    /// (bench/experiments/bvh-traversal.md).
+    int width = 16;
 
     /// Whether a node of `count` triangles fits one leaf block. Such a node's split is judged by
     /// split_beats_block(), the collapse's cost, instead of the binary tree's SAH.

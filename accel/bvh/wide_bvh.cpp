@@ -42,5 +42,6 @@ WideBvh<Width, BlockSize> WideBvh<Width, BlockSize>::build(const Mesh& mesh, con
 
 template class WideBvh<4, 4>;
 template class WideBvh<8, 4>;
+template class WideBvh<16, 4>;
 
 }  // namespace trident

@@ -146,9 +146,15 @@ namespace bvh {
 /// lower id (what makes the closest hit independent of the visiting order).
 inline bool beats(float t, TriangleId id, const Hit& best) { return t < best.t || (t == best.t && id < best.triangle); }
 
+/// The float just above a hit's t, which is finite and at least the ray's tmin >= 0 (-0 counting
+/// as 0): the bits of |t| plus one. That is std::nextafter(t, +inf) there, without nextafterf's
+/// call (which spilled the walk's registers at every block test once a ray had a hit), and the
+/// same bits as the packets' limits (wide_packet.h).
+inline float just_above(float t) { return std::bit_cast<float>((std::bit_cast<std::uint32_t>(t) & 0x7fffffffu) + 1u); }
+
 /// The limit to hand the triangle test (which accepts t < limit): the ray's tmax while nothing is
 /// hit, else just past the closest t, so that a triangle at the same t can win on its id.
-inline float triangle_limit(const Hit& best) { return best.is_hit() ? std::nextafter(best.t, kInfinity) : best.t; }
+inline float triangle_limit(const Hit& best) { return best.is_hit() ? just_above(best.t) : best.t; }
 
 }  // namespace bvh
 

@@ -315,5 +315,7 @@ template WideArrays<4, 4> collapse_to_wide<4, 4>(std::span<const BvhNode>, const
                                                  std::uint32_t);
 template WideArrays<8, 4> collapse_to_wide<8, 4>(std::span<const BvhNode>, const Mesh&, std::span<const TriangleId>,
                                                  std::uint32_t);
+template WideArrays<16, 4> collapse_to_wide<16, 4>(std::span<const BvhNode>, const Mesh&, std::span<const TriangleId>,
+                                                   std::uint32_t);
 
 }  // namespace trident::bvh

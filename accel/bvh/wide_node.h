@@ -68,6 +68,7 @@ struct alignas(Width * sizeof(float)) WideNode {
 };
 static_assert(sizeof(WideNode<4>) == 112, "4 children: six rows of four floats and four references");
 static_assert(sizeof(WideNode<8>) == 224, "8 children: six rows of eight floats and eight references");
+static_assert(sizeof(WideNode<16>) == 448, "16 children: six rows of sixteen floats and sixteen references");
 
 /// BlockSize triangles by coordinate: corner a's x of triangle i is a[0][i]. The corners are the
 /// mesh's floats, untouched: the watertight test shears them per ray, so there is nothing to

@@ -97,8 +97,8 @@ void add_common_options(CLI::App& command, CommonOptions& common, bool with_acce
                            "acceleration structure: brute|bvh|bvh2|kdtree|octree (bvh: the wide BVH, bvh2: the "
                            "binary one)");
         command.add_option("--bvh-width", common.accel_options.bvh.width,
-                           "BVH: children per node, 2 (binary), 4 or 8 (default 8)")
-            ->check(CLI::IsMember({2, 4, 8}));
+                           "BVH: children per node, 2 (binary), 4, 8 or 16 (default 16)")
+            ->check(CLI::IsMember({2, 4, 8, 16}));
         command.add_option("--triangle-test", common.triangle_test, "watertight (default) or moller_trumbore");
         command.add_option("--octree-depth", common.accel_options.octree.max_depth,
                            "octree maximum depth, 1..12 (default: chosen from the scene)")

@@ -119,8 +119,9 @@ StressCommand::StressCommand(CLI::App& app) : options_(std::make_unique<StressCo
     command_->add_option("--only", o.only, "run only these cases (comma-separated; --list names them)")->delimiter(',');
     command_->add_option("--accel", o.accels, "structures, comma-separated (default brute,bvh,bvh2,kdtree,octree)")
         ->delimiter(',');
-    command_->add_option("--bvh-width", o.bvh_width, "children per node of the bvh rows' tree: 2, 4 or 8 (default 8)")
-        ->check(CLI::IsMember({2, 4, 8}));
+    command_
+        ->add_option("--bvh-width", o.bvh_width, "children per node of the bvh rows' tree: 2, 4, 8 or 16 (default 16)")
+        ->check(CLI::IsMember({2, 4, 8, 16}));
     command_->add_option("--bvh-builder", o.bvh_builder,
                          "builder of the bvh and bvh2 rows' trees: binned (default), sweep or spatial (spatial splits)")
         ->check(CLI::IsMember({"binned", "sweep", "spatial"}));

@@ -188,6 +188,7 @@ template struct SingleRayKernels<BruteForce, kKernelWidth>;
 template struct SingleRayKernels<Bvh, kKernelWidth>;
 template struct SingleRayKernels<WideBvh<4, 4>, kKernelWidth>;
 template struct SingleRayKernels<WideBvh<8, 4>, kKernelWidth>;
+template struct SingleRayKernels<WideBvh<16, 4>, kKernelWidth>;
 template struct SingleRayKernels<KdTree, kKernelWidth>;
 template struct SingleRayKernels<Octree, kKernelWidth>;
 
@@ -197,6 +198,7 @@ template struct RenderKernels<BruteForce, kKernelWidth>;
 template struct RenderKernels<Bvh, kKernelWidth>;
 template struct RenderKernels<WideBvh<4, 4>, kKernelWidth>;
 template struct RenderKernels<WideBvh<8, 4>, kKernelWidth>;
+template struct RenderKernels<WideBvh<16, 4>, kKernelWidth>;
 template struct RenderKernels<KdTree, kKernelWidth>;
 template struct RenderKernels<Octree, kKernelWidth>;
 
@@ -205,6 +207,7 @@ template struct RenderKernels<BruteForce, SimdWidth::w4, kKernelWidth>;
 template struct RenderKernels<Bvh, SimdWidth::w4, kKernelWidth>;
 template struct RenderKernels<WideBvh<4, 4>, SimdWidth::w4, kKernelWidth>;
 template struct RenderKernels<WideBvh<8, 4>, SimdWidth::w4, kKernelWidth>;
+template struct RenderKernels<WideBvh<16, 4>, SimdWidth::w4, kKernelWidth>;
 template struct RenderKernels<KdTree, SimdWidth::w4, kKernelWidth>;
 template struct RenderKernels<Octree, SimdWidth::w4, kKernelWidth>;
 #endif
@@ -213,6 +216,7 @@ template struct RenderKernels<BruteForce, SimdWidth::w8, kKernelWidth>;
 template struct RenderKernels<Bvh, SimdWidth::w8, kKernelWidth>;
 template struct RenderKernels<WideBvh<4, 4>, SimdWidth::w8, kKernelWidth>;
 template struct RenderKernels<WideBvh<8, 4>, SimdWidth::w8, kKernelWidth>;
+template struct RenderKernels<WideBvh<16, 4>, SimdWidth::w8, kKernelWidth>;
 template struct RenderKernels<KdTree, SimdWidth::w8, kKernelWidth>;
 template struct RenderKernels<Octree, SimdWidth::w8, kKernelWidth>;
 #endif

@@ -50,7 +50,7 @@ TEST_CASE("bad options and bad input give one line and a non-zero exit") {
           "render teapot --slabs loose", "stress --slabs loose", "stress --triangle-test exact",
           "stress --only no_such_case", "stress --rays 0", "stress --simd 3",
           "info teapot --accel octree --octree-overlap sphere", "info teapot --bvh-builder greedy",
-          "info teapot --accel kdtree --kd-depth-offset 64", "info teapot --bvh-width 3", "stress --bvh-width 16"}) {
+          "info teapot --accel kdtree --kd-depth-offset 64", "info teapot --bvh-width 3", "stress --bvh-width 32"}) {
         CAPTURE(args);
         const Run run = run_trident(args);
         CHECK(run.exit_code != 0);

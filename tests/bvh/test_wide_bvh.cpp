@@ -6,8 +6,10 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <span>
 #include <vector>
@@ -176,6 +178,7 @@ template <class Body>
 void for_each_wide_tree(const Mesh& mesh, const BvhOptions& options, Body&& body) {
     body(WideBvh<4, 4>::build(mesh, options));
     body(WideBvh<8, 4>::build(mesh, options));
+    body(WideBvh<16, 4>::build(mesh, options));
 }
 
 }  // namespace
@@ -294,6 +297,19 @@ TEST_CASE("wide single rays find the binary tree's closest t and the reference's
     const std::vector<Ray> camera = camera_rays(builtin_scene("teapot").camera, 1500, 33);
     for_each_wide_tree(teapot, {},
                        [&](const auto& wide) { check_single_rays(wide, builtin_bvh("teapot"), teapot, camera); });
+}
+
+TEST_CASE("the limit just past a hit is the next float up, -0 counting as 0") {
+    std::mt19937 rng(71);
+    std::uniform_int_distribution<std::uint32_t> finite_non_negative(0u, 0x7f7fffffu);
+    for (int i = 0; i < 100000; ++i) {
+        const float t = std::bit_cast<float>(finite_non_negative(rng));
+        REQUIRE(same_bits(bvh::just_above(t), std::nextafter(t, kInfinity)));
+    }
+    for (const float t :
+         {0.0f, -0.0f, std::numeric_limits<float>::denorm_min(), 1.0f, std::numeric_limits<float>::max()})
+        CHECK(same_bits(bvh::just_above(t), std::nextafter(t, kInfinity)));
+    CHECK(bvh::triangle_limit(Hit{}) == kInfinity);  // nothing hit: the ray's tmax
 }
 
 TEST_CASE("at equal t the lowest triangle id wins, whatever the order") {
