@@ -292,7 +292,8 @@ void add_options(CLI::App& app, Arguments& args) {
                    "structures, comma separated: bvh,bvh2,kdtree,octree,brute (default: all built but brute; bvh "
                    "is the wide BVH, bvh2 the binary one)")
         ->delimiter(',');
-    app.add_option("--bvh-width", args.bvh_width, "children per node of the bvh rows' tree: 4, 8 or 16 (default 16)")
+    app.add_option("--bvh-width", args.bvh_width,
+                   "children per node of the bvh rows' tree: 4, 8 or 16 (default: 16 where AVX2 runs, else 8)")
         ->check(CLI::IsMember({4, 8, 16}));
     app.add_option("--bvh-builder", args.bvh_builder,
                    "builder of the bvh and bvh2 rows' trees: binned (default), sweep, or spatial (spatial splits, "

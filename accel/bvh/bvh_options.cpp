@@ -4,7 +4,19 @@
 #include <stdexcept>
 #include <string>
 
+#include "simd/width.h"
+
 namespace trident {
+
+int fastest_wide_width() {
+    try {
+        return is_runnable(SimdWidth::w8) ? 16 : 8;
+    } catch (const std::runtime_error&) {
+        // A TRIDENT_ISA that names no instruction set: options are made before a command can
+        // report it, and the first use of the cap after them reports it again, as one line.
+        return 8;
+    }
+}
 
 const char* to_string(BvhBuilder builder) {
     switch (builder) {

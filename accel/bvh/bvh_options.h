@@ -12,6 +12,13 @@ enum class BvhBuilder {
 
 const char* to_string(BvhBuilder builder);
 
+/// The wide BVH's fastest node width where this process runs (under TRIDENT_ISA's cap): 16
+/// children where its kernels have 8 or 16 lanes (AVX2, AVX-512), whose box tests take a 16-wide
+/// node in two vector steps or one, and a ray then passes three or four fewer nodes between the
+/// root and a leaf; 8 where they have SSE4.2's 4 lanes only, whose four steps a node made 16
+/// children no faster (bench/experiments/bvh-traversal.md).
+int fastest_wide_width();
+
 struct BvhOptions {
     static constexpr int kMinBins = 8, kMaxBins = 64, kMaxLargeNodeBins = 256;
     /// Nodes with at least this many triangles are binned with large_node_bin_count bins.
@@ -43,11 +50,8 @@ struct BvhOptions {
     float spatial_split_budget = 0.5f;
     static constexpr float kMaxSpatialSplitBudget = 4.0f;
     /// Children per node of AccelKind::bvh's tree: 2 (the binary tree), 4, 8 or 16 (the wide BVH,
-    /// wide_bvh.h, built by collapsing the binary one). 16 is the fastest under both the AVX-512
-    /// kernels (one vector a row) and the AVX2 ones (two): a ray passes three or four fewer nodes
-    /// between the root and a leaf, and the walk waits on each node's loads in turn
-    /// (bench/experiments/bvh-traversal.md).
-    int width = 16;
+    /// wide_bvh.h, built by collapsing the binary one); by default the fastest for this CPU.
+    int width = fastest_wide_width();
 
     /// Whether a node of `count` triangles fits one leaf block. Such a node's split is judged by
     /// split_beats_block(), the collapse's cost, instead of the binary tree's SAH.

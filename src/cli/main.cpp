@@ -97,7 +97,7 @@ void add_common_options(CLI::App& command, CommonOptions& common, bool with_acce
                            "acceleration structure: brute|bvh|bvh2|kdtree|octree (bvh: the wide BVH, bvh2: the "
                            "binary one)");
         command.add_option("--bvh-width", common.accel_options.bvh.width,
-                           "BVH: children per node, 2 (binary), 4, 8 or 16 (default 16)")
+                           "BVH: children per node, 2 (binary), 4, 8 or 16 (default: 16 where AVX2 runs, else 8)")
             ->check(CLI::IsMember({2, 4, 8, 16}));
         command.add_option("--triangle-test", common.triangle_test, "watertight (default) or moller_trumbore");
         command.add_option("--octree-depth", common.accel_options.octree.max_depth,

@@ -120,7 +120,8 @@ StressCommand::StressCommand(CLI::App& app) : options_(std::make_unique<StressCo
     command_->add_option("--accel", o.accels, "structures, comma-separated (default brute,bvh,bvh2,kdtree,octree)")
         ->delimiter(',');
     command_
-        ->add_option("--bvh-width", o.bvh_width, "children per node of the bvh rows' tree: 2, 4, 8 or 16 (default 16)")
+        ->add_option("--bvh-width", o.bvh_width,
+                     "children per node of the bvh rows' tree: 2, 4, 8 or 16 (default: 16 where AVX2 runs, else 8)")
         ->check(CLI::IsMember({2, 4, 8, 16}));
     command_->add_option("--bvh-builder", o.bvh_builder,
                          "builder of the bvh and bvh2 rows' trees: binned (default), sweep or spatial (spatial splits)")
