@@ -18,7 +18,6 @@
 #include <algorithm>
 #include <bit>
 #include <cassert>
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -148,9 +147,14 @@ inline bool beats(float t, TriangleId id, const Hit& best) { return t < best.t |
 
 /// The float just above a hit's t, which is finite and at least the ray's tmin >= 0 (-0 counting
 /// as 0): the bits of |t| plus one. That is std::nextafter(t, +inf) there, without nextafterf's
-/// call (which spilled the walk's registers at every block test once a ray had a hit), and the
-/// same bits as the packets' limits (wide_packet.h).
+/// call (which spilled the walk's registers at every block test once a ray had a hit). For one
+/// ray, and lane by lane for a packet's closest hits: the same bits either way.
 inline float just_above(float t) { return std::bit_cast<float>((std::bit_cast<std::uint32_t>(t) & 0x7fffffffu) + 1u); }
+template <class Arch>
+xsimd::batch<float, Arch> just_above(const xsimd::batch<float, Arch>& t) {
+    using UInt = xsimd::batch<std::uint32_t, Arch>;
+    return xsimd::bitwise_cast<xsimd::batch<float, Arch>>(xsimd::bitwise_cast<UInt>(xsimd::abs(t)) + UInt(1u));
+}
 
 /// The limit to hand the triangle test (which accepts t < limit): the ray's tmax while nothing is
 /// hit, else just past the closest t, so that a triangle at the same t can win on its id.

@@ -79,11 +79,9 @@ typename RayPacket<Arch>::Mask test_triangle_lanes(const Intersector& intersecto
                                                    typename RayPacket<Arch>::Mask& blocked) {
     using Float = typename RayPacket<Arch>::Float;
     using Mask = typename RayPacket<Arch>::Mask;
-    using UInt = xsimd::batch<std::uint32_t, Arch>;
-    // Each lane's limit: its tmax while nothing is hit, else just past the closest t (the bits of
-    // its magnitude, plus one: triangle_limit lane by lane).
-    const Float next_up = xsimd::bitwise_cast<Float>(xsimd::bitwise_cast<UInt>(xsimd::abs(hits.t)) + UInt(1u));
-    const Float limits = xsimd::select(hits.t < rays.tmax, next_up, hits.t);
+    // Each lane's limit: its tmax while nothing is hit, else just past the closest t
+    // (triangle_limit lane by lane).
+    const Float limits = xsimd::select(hits.t < rays.tmax, just_above(hits.t), hits.t);
     const Vec3T<Float> a(Float(block.a[0][k]), Float(block.a[1][k]), Float(block.a[2][k]));
     const Vec3T<Float> b(Float(block.b[0][k]), Float(block.b[1][k]), Float(block.b[2][k]));
     const Vec3T<Float> c(Float(block.c[0][k]), Float(block.c[1][k]), Float(block.c[2][k]));

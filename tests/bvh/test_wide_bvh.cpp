@@ -305,10 +305,13 @@ TEST_CASE("the limit just past a hit is the next float up, -0 counting as 0") {
     for (int i = 0; i < 100000; ++i) {
         const float t = std::bit_cast<float>(finite_non_negative(rng));
         REQUIRE(same_bits(bvh::just_above(t), std::nextafter(t, kInfinity)));
+        REQUIRE(same_bits(bvh::just_above(xsimd::batch<float>(t)).get(0), bvh::just_above(t)));  // a packet's lanes
     }
     for (const float t :
-         {0.0f, -0.0f, std::numeric_limits<float>::denorm_min(), 1.0f, std::numeric_limits<float>::max()})
+         {0.0f, -0.0f, std::numeric_limits<float>::denorm_min(), 1.0f, std::numeric_limits<float>::max()}) {
         CHECK(same_bits(bvh::just_above(t), std::nextafter(t, kInfinity)));
+        CHECK(same_bits(bvh::just_above(xsimd::batch<float>(t)).get(0), bvh::just_above(t)));
+    }
     CHECK(bvh::triangle_limit(Hit{}) == kInfinity);  // nothing hit: the ray's tmax
 }
 
