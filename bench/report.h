@@ -90,6 +90,7 @@ struct BenchReport {
     std::string reference;                    // the reference the run chose; rows say where a scene differs
     std::string embree_settings;              // empty without Embree rows or partners
     std::string embree_isa;                   // --embree-isa: native, sse4.2, avx2 or avx512
+    std::string isa_cap;                      // TRIDENT_ISA's cap on our kernels ("avx2"...), empty when none
     std::string sweep_name, sweep_parameter;  // empty unless --sweep
     std::vector<std::string> notes;           // refusals and other things a reader must know
     std::vector<BenchRow> rows;

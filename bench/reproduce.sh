@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The run set behind bench/RESULTS.md: every table and chart of it, measured on this machine at
-# this commit, then the page generated from the JSON (bench/summarize.py page). About 40 minutes on
+# this commit, then the page generated from the JSON (bench/summarize.py page). About 70 minutes on
 # 2 cores (an estimate from the rows and the resolution; each step prints how long it took, and the
 # page lists the times). Run from anywhere, with ../shared beside the repository and nothing else
 # running on the machine:
@@ -23,6 +23,12 @@
 #   portable   the portable build (build-portable/, what `run.sh test` and users get) against this
 #              native one on the same rays, in pairs seconds apart (bench/compare_builds.py): the
 #              built-in scenes, every structure, width and ray kind, one thread.
+#   avx2       the portable build under TRIDENT_ISA=avx2 (the kernels of a CPU without AVX-512, such as
+#              the study's Ryzen) against Embree limited to AVX2, the study's scenes at 960x540, wide BVH
+#              single rays and 8-lane packets, every ray kind, one thread, paired.
+#   caps       the portable build's primary-ray hit buffers under every ISA cap the CPU runs, every
+#              structure and width the cap allows, byte for byte against its uncapped single rays'
+#              (bench/compare_caps.py), the study's scenes at 1920x1080.
 #   python     the Python module's scene.intersect on camera_rays against trident-bench's render of the
 #              same rays, same structure and traversal, two threads, in pairs (bench/python_bench.py).
 #   setup      `bash run.sh test` and `bash run.sh bench`, each from a clean clone of this commit
@@ -110,6 +116,13 @@ step portable $python bench/compare_builds.py build-portable/trident-bench $benc
     --each-scene $portable_scenes --each-accel bvh,bvh2,kdtree,octree --json $out/portable.json \
     --markdown $out/portable.md -- --simd scalar,simd4,simd8,simd16 --rays primary,shadow,diffuse --threads 1 \
     --embree none "${portable_size[@]}"
+# AVX2 as users have it (issue 34): the cap gives Embree max_isa=avx2 too.
+step avx2 env TRIDENT_ISA=avx2 build-portable/trident-bench --scenes $scenes "${only[@]}" --accel bvh \
+    --rays primary,shadow,diffuse --simd scalar,simd8 --threads 1 --embree 1,8 --paired embree "${secondary_size[@]}" \
+    "${repeats[@]}" --quiet --json $out/avx2.json --csv $out/avx2.csv
+# The same hits whichever kernels run (issue 34).
+step caps $python bench/compare_caps.py build-portable/trident-bench --json $out/caps.json -- --scenes $scenes \
+    "${only[@]}" --accel bvh,bvh2,kdtree,octree --threads 2 "${primary_size[@]}"
 # The Python module against the C++ renderer on the same rays (issue 33), both from build-native.
 step python env PYTHONPATH=build-native/python $python bench/python_bench.py --bench $bench --scenes $scenes \
     --accel bvh,kdtree,octree --simd scalar,simd8,simd16 --threads 2 --repeats 3 "${python_args[@]}" \
@@ -143,7 +156,9 @@ run = {"commit": commit, "dirty": dirty != "0", "date": date, "steps": steps,
        "runs": [{"name": "primary", "json": "primary.json"}, {"name": "ray_kinds", "json": "ray_kinds.json"},
                 {"name": "spatial", "json": "spatial.json"}],
        "charts": charts}
-for name in ("portable", "setup", "python"):
+if os.path.exists(os.path.join(os.path.dirname(manifest), "avx2.json")):
+    run["runs"].append({"name": "avx2", "json": "avx2.json"})
+for name in ("portable", "setup", "python", "caps"):
     if os.path.exists(os.path.join(os.path.dirname(manifest), name + ".json")):
         run[name] = name + ".json"
 if placeholder:

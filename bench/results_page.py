@@ -159,6 +159,8 @@ class RunSet:
         self.setup = self.extra("setup", lambda data: data["cpu"])
         # The Python module against the C++ renderer (bench/python_bench.py).
         self.python = self.extra("python", lambda data: data["machine"]["cpu"])
+        # Hit buffers under every ISA cap (bench/compare_caps.py).
+        self.caps = self.extra("caps", lambda data: data["machine"]["cpu"])
 
     def extra(self, key, cpu_of):
         if key not in self.manifest:
@@ -382,6 +384,59 @@ def portable_section(runs):
     return out
 
 
+def isa_cap_section(runs):
+    """The run made under TRIDENT_ISA's cap (run `avx2`): ours against Embree limited the same way."""
+    run = runs.runs.get("avx2")
+    out = ["## AVX2 as our users have it", ""]
+    if run is None:
+        return out + ["Not measured by this run set (its `avx2` step did not run)."]
+    out += ["The portable build under `TRIDENT_ISA={}` (the kernels a CPU without AVX-512 runs, such as the study's "
+            "Ryzen) against Embree limited the same way (`max_isa={}`), on the same rays, {} ({}x{}): Embree's "
+            "time over ours, paired as above (single rays against rtcIntersect1 or rtcOccluded1, packets against "
+            "Embree's call of the same width). Command: `{}`.".format(
+                run.report.get("isa_cap") or "-", run.report.get("embree_isa") or "-", per_thread_count(run),
+                run.report["width"], run.report["height"], step_command(runs, "avx2") or "-"), ""]
+    kinds = [k for k in KINDS if run.ours(rays=k)]
+    columns = [(s, w, k) for s in run.structures() for w in run.traversals() for k in kinds
+               if run.ours(structure=s, traversal=w, rays=k)]
+
+    def cell(scene, s, w, k):
+        values = [r.get("paired_over_embree") for t in run.threads
+                  for r in [run.one(scene=scene, structure=s, traversal=w, threads=t, rays=k)] if r is not None]
+        return " / ".join("-" if v is None else two(v) for v in values) or "-"
+
+    out.append(table(["scene"] + ["{} {}, {}".format(name_of(s), w, k) for s, w, k in columns],
+                     [[scene] + [cell(scene, s, w, k) for s, w, k in columns] for scene in run.scenes]))
+    return out
+
+
+def caps_section(runs):
+    data = runs.caps
+    out = ["## The same hits under every instruction set", ""]
+    if data is None:
+        return out + ["Not measured by this run set (its `caps` step did not run)."]
+    rows = data["rows"]
+    caps = ordered([r["cap"] for r in rows], ["sse4", "avx2", "avx512"])
+    out += ["The portable build's primary-ray hit buffers (BENCHMARK.md's format, {}x{}) under each `TRIDENT_ISA` "
+            "cap, every structure and every packet width the cap allows, compared byte for byte with the same "
+            "binary's single rays without a cap (`bench/compare_caps.py`). A cell: the buffers that differ, of "
+            "those compared, and the rays they differ in. Command: `{}`.".format(
+                data["width"], data["height"], step_command(runs, "caps") or "-"), ""]
+    structures = ordered([r["structure"] for r in rows], ["bvh", "bvh2", "kdtree", "octree"])
+    body = []
+    for s in structures:
+        cells = [name_of(s)]
+        for cap in caps:
+            mine = [r for r in rows if r["structure"] == s and r["cap"] == cap]
+            cells.append("{} of {} ({} rays)".format(sum(r["differing_rays"] > 0 for r in mine), len(mine),
+                                                     sum(r["differing_rays"] for r in mine)))
+        body.append(cells)
+    out.append(table(["structure"] + ["differ under {}".format(c) for c in caps], body))
+    for skipped in data.get("skipped", []):
+        out += ["", "Not run under `{}` on this CPU: {}".format(skipped["cap"], skipped["why"])]
+    return out
+
+
 def python_section(runs):
     data = runs.python
     out = ["## The Python module against the C++ renderer", ""]
@@ -520,6 +575,8 @@ def target_rows(runs, spec, scene_kinds):
         return None, [r for r in rows if all(r.get(k) == v for k, v in spec.get("rows", {}).items())]
     if spec["measure"] == "python_ratio":
         return None, [] if runs.python is None else runs.python["rows"]
+    if spec["measure"] == "caps_differing":
+        return None, [] if runs.caps is None else runs.caps["rows"]
     if spec["measure"] == "setup_seconds":
         commands = [] if runs.setup is None else runs.setup["commands"]
         return None, [dict(c, scene="`{}`".format(c["command"])) for c in commands if c["command"] == spec["command"]]
@@ -547,6 +604,8 @@ def measure(runs, spec, scene_kinds):
             out.append((r, r["median"], True))
         elif spec["measure"] == "python_ratio":
             out.append((r, r["ratio"], True))
+        elif spec["measure"] == "caps_differing":
+            out.append((r, r["differing_rays"], False))
         elif spec["measure"] == "setup_seconds":
             out.append((r, r["seconds"], False))
         elif spec["measure"] == "value":
@@ -597,6 +656,8 @@ def describe(values, spec):
         return "{} (paired)".format(span(figures))
     if spec["measure"] == "setup_seconds":
         return "{} s".format(span(figures, fmt))
+    if spec["measure"] == "caps_differing":
+        return "{} of {} hit buffers differ".format(sum(v > 0 for v in figures), len(figures))
     if spec["measure"] != "speed_ratio":
         return (span(figures, fmt if spec["measure"] == "value" else two) + " " + spec.get("unit", "")).strip()
     paired = [p for _, _, p in values]
@@ -657,7 +718,8 @@ def page(manifest_path, study_table_path, scenes_path, targets_path):
             "typed in. What was tried, kept or dropped, with the figures of older runs and machines, is in "
             "[experiments/](experiments/README.md), one file per topic.", ""]
     for section in (machine_section(runs), study_section(runs, study), embree_section(runs), build_section(runs),
-                    question_section(runs, study, scene_kinds), portable_section(runs), python_section(runs), setup_section(runs),
+                    question_section(runs, study, scene_kinds), portable_section(runs), isa_cap_section(runs),
+                    caps_section(runs), python_section(runs), setup_section(runs),
                     targets_section(runs, targets, scene_kinds)):
         out += section + [""]
     out += ["## Trials", "",

@@ -25,6 +25,7 @@
 #include "render/render_plan.h"
 #include "render/trace.h"
 #include "scene/scene_source.h"
+#include "simd/width.h"
 
 namespace trident::bench {
 namespace {
@@ -148,6 +149,7 @@ private:
         for (SlabTest slabs : options_.slab_tests)
             report_.slabs += fmt::format("{}{}", report_.slabs.empty() ? "" : ", ", to_string(slabs));
         report_.reference = describe_reference(options_.reference);
+        if (const std::optional<IsaLevel> cap = trident::isa_cap()) report_.isa_cap = to_string(*cap);
 #if TRIDENT_HAVE_EMBREE
         if (options_.runs_embree() || options_.pairs_with(PairPartner::embree))
             report_.embree_settings = embree_settings(options_.embree_quality, options_.embree_isa);

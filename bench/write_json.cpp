@@ -57,6 +57,7 @@ void write_json(const BenchReport& report, const std::filesystem::path& path) {
         {"embree_settings",
          report.embree_settings.empty() ? nlohmann::json(nullptr) : nlohmann::json(report.embree_settings)},
         {"embree_isa", report.embree_settings.empty() ? nlohmann::json(nullptr) : nlohmann::json(report.embree_isa)},
+        {"isa_cap", report.isa_cap.empty() ? nlohmann::json(nullptr) : nlohmann::json(report.isa_cap)},
         {"sweep", report.sweep_name.empty()
                       ? nlohmann::json(nullptr)
                       : nlohmann::json{{"name", report.sweep_name}, {"parameter", report.sweep_parameter}}},

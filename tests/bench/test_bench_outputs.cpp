@@ -297,6 +297,10 @@ TEST_CASE("TRIDENT_ISA caps Embree's rows as it caps ours, unless --embree-isa n
         const auto json = nlohmann::json::parse(trident::testing::read_text(json_path));
         for (const auto& row : rows_of(json, "embree"))
             CHECK(row.at("note").get<std::string>().find(json.at("embree_settings").get<std::string>()) != std::string::npos);
+        // Our kernels' cap is in the JSON too: a run set can tell a capped run from a native one.
+        const bool capped = environment.rfind("TRIDENT_ISA=", 0) == 0;
+        CHECK(json.at("isa_cap").is_null() == !capped);
+        if (capped) CHECK(environment.substr(environment.find('=') + 1) == json.at("isa_cap").get<std::string>());
         return json.at("embree_isa").get<std::string>();
     };
     CHECK(embree_isa("env -u TRIDENT_ISA", "") == "native");

@@ -5,8 +5,8 @@ A tiny synthetic run set whose answers are known by hand: the fastest structure 
 ray kind with its margins, paired figures preferred over ratios of medians, a structure the
 generator was not told of (a wide BVH) given its own columns, the targets measured, runs of two
 machines refused, `check` failing on a page that differs from its JSON, and plot.py's charts of
-one ray kind. Then the committed page against the committed JSON (skipped, with a message, without
-../shared).
+one ray kind, the run under an ISA cap and the hit buffers of every cap. Then the committed page
+against the committed JSON (skipped, with a message, without ../shared).
 """
 import copy
 import json
@@ -367,6 +367,85 @@ class PythonModule(RunSetFixture):
         text = self.page()
         self.assertIn("Not measured by this run set (its `python` step did not run).", text)
         self.assertIn("module at most 1.05x C++ (issue 33", self.section(text, "## Targets not met"))
+
+
+def avx2_rows():
+    """Under the AVX2 cap, paired with Embree at AVX2: single rays ahead on both scenes, 8-lane shadow
+    packets behind on the complex one."""
+    rows = []
+    for scene in ("simple", "complex"):
+        for rays in ("primary", "shadow"):
+            rows.append(row(scene, "bvh", "scalar", 1, 10.0, rays=rays, paired_over_embree=1.10))
+            rows.append(row(scene, "bvh", "simd8", 1, 20.0, rays=rays,
+                            paired_over_embree=0.90 if (scene, rays) == ("complex", "shadow") else 1.05))
+        rows.append(row(scene, "embree", "rtcIntersect1", 1, 9.0))
+    return rows
+
+
+def caps_rows():
+    """Hit buffers under two caps: one octree buffer differs in 3 rays under sse4."""
+    rows = []
+    for scene in ("simple", "complex"):
+        for structure in ("bvh", "octree"):
+            for cap, traversals in (("sse4", ("scalar", "simd4")), ("avx2", ("scalar", "simd4", "simd8"))):
+                for traversal in traversals:
+                    differ = 3 if (scene, structure, cap, traversal) == ("complex", "octree", "sse4", "simd4") else 0
+                    rows.append({"scene": scene, "structure": structure, "traversal": traversal, "cap": cap,
+                                 "rays": 1000, "differing_rays": differ})
+    return rows
+
+
+class IsaCaps(RunSetFixture):
+    def setUp(self):
+        super().setUp()
+        avx2 = report(avx2_rows(), 32, 18)
+        avx2.update(threads=[1], isa_cap="avx2", embree_isa="avx2")
+        self.write("avx2.json", avx2)
+        self.write("caps.json", {"tool": "compare_caps.py", "machine": dict(MACHINE), "width": 64, "height": 36,
+                                 "rows": caps_rows(), "skipped": [{"cap": "avx512", "why": "no AVX-512 here"}]})
+        self.write("targets.json", TARGETS + [
+            {"issue": 34, "target": "avx2 at least Embree avx2", "run": "avx2", "measure": "speed_ratio",
+             "to": {"structure": "embree"}, "paired": "paired_over_embree", "at_least": 1.0,
+             "rows": {"structure": "bvh", "traversals": ["scalar", "simd8"]}, "reason": "AVX2 reason.",
+             "trials": "experiments/portable_build.md"},
+            {"issue": 34, "target": "identical hit buffers", "measure": "caps_differing", "at_most": 0,
+             "reason": "Caps reason.", "trials": "experiments/portable_build.md"}])
+        self.manifest["runs"].append({"name": "avx2", "json": "avx2.json"})
+        self.manifest.update(caps="caps.json")
+        self.manifest["steps"] += [{"name": "avx2", "seconds": 60, "command": "env TRIDENT_ISA=avx2 trident-bench ..."},
+                                   {"name": "caps", "seconds": 60, "command": "compare_caps.py ..."}]
+        self.write("run.json", self.manifest)
+
+    def test_ours_against_embree_at_the_same_cap(self):
+        section = self.section(self.page(), "## AVX2 as our users have it")
+        self.assertIn("`TRIDENT_ISA=avx2`", section)
+        self.assertIn("(`max_isa=avx2`)", section)
+        self.assertIn("Command: `env TRIDENT_ISA=avx2 trident-bench ...`.", section)
+        header = next(line for line in section.splitlines() if line.startswith("| scene |"))
+        self.assertEqual(header, "| scene | BVH scalar, primary | BVH scalar, shadow | BVH simd8, primary | "
+                                 "BVH simd8, shadow |")
+        self.assertEqual(self.table_row(section, "complex"), "| complex | 1.10 | 1.10 | 1.05 | 0.90 |")
+
+    def test_the_hit_buffers_per_structure_and_cap(self):
+        section = self.section(self.page(), "## The same hits under every instruction set")
+        self.assertIn("| BVH | 0 of 4 (0 rays) | 0 of 6 (0 rays) |", section)
+        self.assertIn("| Octree | 1 of 4 (3 rays) | 0 of 6 (0 rays) |", section)
+        self.assertIn("Not run under `avx512` on this CPU: no AVX-512 here", section)
+        self.assertIn("Command: `compare_caps.py ...`.", section)
+
+    def test_their_targets(self):
+        targets = self.section(self.page(), "## Targets not met")
+        self.assertIn("| avx2 at least Embree avx2 | 0.90–1.10 (paired) | 7 of 8 | complex |", targets)
+        self.assertIn("| identical hit buffers | 1 of 20 hit buffers differ | 19 of 20 | complex |", targets)
+
+    def test_absent_they_are_not_measured(self):
+        self.manifest["runs"].pop()
+        del self.manifest["caps"]
+        self.write("run.json", self.manifest)
+        text = self.page()
+        self.assertIn("Not measured by this run set (its `avx2` step did not run).", text)
+        self.assertIn("Not measured by this run set (its `caps` step did not run).", text)
+        self.assertIn("identical hit buffers (issue 34", self.section(text, "## Targets not met"))
 
 
 class TheCommittedPage(unittest.TestCase):
