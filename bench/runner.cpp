@@ -408,11 +408,15 @@ private:
         BenchRow row = start_row(run, to_string(config.kind), to_string(traversal));
         row.build_ms = build;
         const SimdWidth width = simd_width(traversal);
-        const StreamTraversal stream{width, AnyHit ? PacketGrouping::in_order : PacketGrouping::by_octant};
+        // Diffuse rays are incoherent, as Embree's rtcIntersect1 takes them by default.
+        const RayCoherence coherence = AnyHit ? RayCoherence::coherent : RayCoherence::incoherent;
+        const StreamTraversal stream{width, AnyHit ? PacketGrouping::in_order : PacketGrouping::by_octant,
+                                     SlabTest::robust, coherence};
         if (!AnyHit && width != SimdWidth::scalar) row.note = fmt::format("packets {}", to_string(stream.grouping));
         std::vector<Partner> partners;
         if (options_.vs_single && width != SimdWidth::scalar)
-            partners.push_back({{[&] { trace(partner_results, {}); }}, &BenchRow::speedup_over_single_rays});
+            partners.push_back({{[&] { trace(partner_results, {.coherence = coherence}); }},
+                                &BenchRow::speedup_over_single_rays});
         if (AnyHit && options_.pairs_with(PairPartner::closest))
             partners.push_back({{[&] { intersect_stream_parallel(accel, rays, partner_secondary_hits_, stream); }},
                                 &BenchRow::paired_over_closest});

@@ -16,13 +16,14 @@ template <bool AnyHit>
 using Result = std::conditional_t<AnyHit, std::uint8_t, Hit>;
 
 template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Structure>
-void trace_single(const Structure& structure, std::span<const Ray> rays, std::span<Result<AnyHit>> out) {
+void trace_single(const Structure& structure, std::span<const Ray> rays, std::span<Result<AnyHit>> out,
+                  RayCoherence coherence) {
     for (std::size_t i = 0; i < rays.size(); ++i) {
         NoCounters counters;
         if constexpr (AnyHit)
             out[i] = is_traced(rays[i]) && structure.template occluded<Test, Slabs>(rays[i], counters);
         else
-            out[i] = is_traced(rays[i]) ? structure.template intersect<Test, Slabs>(rays[i], counters) : Hit{};
+            out[i] = is_traced(rays[i]) ? intersect_hinted<Test, Slabs>(structure, rays[i], counters, coherence) : Hit{};
     }
 }
 
@@ -67,13 +68,14 @@ void trace_stream(const AnyAccel& accel, std::span<const Ray> rays, std::span<Re
                 if constexpr (AnyHit)
                     FileKernels::occlude_rays(structure, rays, out, test, traversal.slabs);
                 else
-                    FileKernels::intersect_rays(structure, rays, out, test, traversal.slabs);
+                    FileKernels::intersect_rays(structure, rays, out, test, traversal.slabs, traversal.coherence);
             });
         });
         if (in_kernel_file) return;
         with_traversal_variant(test, traversal.slabs, [&](auto test_tag, auto slabs_tag) {
             accel.visit([&](const auto& structure) {
-                trace_single<AnyHit, decltype(test_tag)::value, decltype(slabs_tag)::value>(structure, rays, out);
+                trace_single<AnyHit, decltype(test_tag)::value, decltype(slabs_tag)::value>(structure, rays, out,
+                                                                                         traversal.coherence);
             });
         });
         return;

@@ -9,6 +9,7 @@
 
 #include "accel/any_accel.h"
 #include "core/intersect_triangle.h"
+#include "core/ray_coherence.h"
 #include "core/slab_test.h"
 #include "render/image_tiles.h"
 #include "render/ray_arrays.h"
@@ -18,11 +19,12 @@
 namespace trident {
 
 /// How a stream is traced: single rays (width scalar) or packets of `width` lanes grouped so, with
-/// the robust or the fast slab test.
+/// the robust or the fast slab test; `coherence` is the caller's hint for single closest-hit rays.
 struct StreamTraversal {
     SimdWidth width = SimdWidth::scalar;
     PacketGrouping grouping = PacketGrouping::in_order;
     SlabTest slabs = SlabTest::robust;
+    RayCoherence coherence = RayCoherence::coherent;
 };
 
 /// Any-hit: occluded[i] = 1 when rays[i] hits anything in [tmin, tmax]. Throws std::runtime_error

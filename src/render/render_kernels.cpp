@@ -141,14 +141,14 @@ template <class Structure, SimdWidth File>
 template <class Structure, SimdWidth File>
 [[gnu::flatten]] void SingleRayKernels<Structure, File>::intersect_rays(const Structure& structure,
                                                                         std::span<const Ray> rays, std::span<Hit> hits,
-                                                                        TriangleTest test, SlabTest slabs) {
+                                                                        TriangleTest test, SlabTest slabs,
+                                                                        RayCoherence coherence) {
     with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
         for (std::size_t i = 0; i < rays.size(); ++i) {
             NoCounters counters;
-            hits[i] = is_traced(rays[i])
-                          ? structure.template intersect<decltype(test_tag)::value, decltype(slabs_tag)::value>(
-                                rays[i], counters)
-                          : Hit{};
+            hits[i] = is_traced(rays[i]) ? intersect_hinted<decltype(test_tag)::value, decltype(slabs_tag)::value>(
+                                               structure, rays[i], counters, coherence)
+                                         : Hit{};
         }
     });
 }

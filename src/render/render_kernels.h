@@ -14,6 +14,7 @@
 #include "camera/camera.h"
 #include "core/intersect_triangle.h"
 #include "core/ray.h"
+#include "core/ray_coherence.h"
 #include "core/slab_test.h"
 #include "core/traversal_variant.h"
 #include "render/image_tiles.h"
@@ -63,7 +64,7 @@ struct SingleRayKernels {
                                    std::span<Hit> hits, TriangleTest test, SlabTest slabs);
     /// One result per ray (untraceable rays get none: a miss, not occluded).
     static void intersect_rays(const Structure& structure, std::span<const Ray> rays, std::span<Hit> hits,
-                               TriangleTest test, SlabTest slabs);
+                               TriangleTest test, SlabTest slabs, RayCoherence coherence);
     static void occlude_rays(const Structure& structure, std::span<const Ray> rays, std::span<std::uint8_t> occluded,
                              TriangleTest test, SlabTest slabs);
     /// RenderKernels' array tiles, one ray at a time (trace_tile_singly).

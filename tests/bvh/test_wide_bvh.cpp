@@ -131,18 +131,22 @@ void check_single_rays(const WideBvh<Width, BlockSize>& wide, const Bvh& binary,
                        std::span<const Ray> rays) {
     NoCounters none;
     std::vector<Hit> hits;
-    std::size_t t_differs = 0, occluded_differs = 0, found = 0;
+    std::size_t t_differs = 0, occluded_differs = 0, found = 0, hinted_differs = 0;
     for (const Ray& ray : rays) {
         const Hit hit = wide.template intersect<Test, Slabs>(ray, none);
         const Hit expected = binary.intersect<Test, Slabs>(ray, none);
         t_differs += hit.is_hit() != expected.is_hit() || (hit.is_hit() && !same_bits(hit.t, expected.t));
         occluded_differs += wide.template occluded<Test, Slabs>(ray, none) != hit.is_hit();
+        // The incoherent walk (which prefetches what it stacks) finds the same hit, bit for bit.
+        const Hit hinted = wide.template intersect<Test, Slabs>(ray, none, RayCoherence::incoherent);
+        hinted_differs += !same_bits(hinted, hit);
         found += hit.is_hit();
         hits.push_back(hit);
     }
     CHECK(found > 0);
     CHECK(t_differs == 0);
     CHECK(occluded_differs == 0);
+    CHECK(hinted_differs == 0);
     if constexpr (Test == TriangleTest::watertight && Slabs == SlabTest::robust) {
         const std::vector<Triangle> triangles = gather_triangles(mesh);
         require_agreement(compare_with_reference<Hit>(triangles, rays, hits));
