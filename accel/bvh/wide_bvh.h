@@ -45,9 +45,11 @@ namespace bvh {
 /// `single_ray_lanes` lanes need; and, where `min_lane_use` > 0, at a node whose entered children
 /// its lanes use less than that share of (children entered) x (lanes entering any of them): then
 /// each of those lanes walks the node's subtree alone (Benthin et al. 2012's utilization switch).
+/// `alone` is how those lanes walk: incoherent for a packet whose directions spread wide.
 struct PacketSwitch {
     int single_ray_lanes = 1;
     float min_lane_use = 0.0f;
+    RayCoherence alone = RayCoherence::coherent;
 };
 
 }  // namespace bvh
@@ -119,7 +121,8 @@ private:
     /// record in `hits`; returns the any-hit lanes that hit (none for closest hit).
     template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
     typename RayPacket<Arch>::Mask trace_singly(const RayPacket<Arch>& rays, std::uint32_t lanes, bvh::ChildRef from,
-                                                HitPacket<Arch>& hits, Counters& counters) const;
+                                                HitPacket<Arch>& hits, Counters& counters,
+                                                RayCoherence coherence) const;
 
     /// Asks for a child's node, or its leaf's first block, to be brought into cache: a packet
     /// decides which children it enters well before it steps into them (Embree prefetches so), an

@@ -33,6 +33,12 @@ struct RayGroupBounds {
     bool negative[3];
     float tmin_lo;
 
+    /// Whether the rays leave from one point (a pinhole camera's): then the bounds are a tight
+    /// frustum, where rays from spread origins (shadow rays) give a loose one.
+    bool shares_origin() const {
+        return origin_lo[0] == origin_hi[0] && origin_lo[1] == origin_hi[1] && origin_lo[2] == origin_hi[2];
+    }
+
     /// The bounds of a packet's live lanes, or nothing when they do not share an octant or some
     /// direction component is zero (its reciprocal infinite), where the intervals say nothing.
     template <class Arch>

@@ -136,7 +136,8 @@ bool directions_within_cone(const RayPacket<Arch>& rays, float cos_half_angle) {
 /// bench/experiments/bvh-traversal.md): all lanes alone from the root took Gallery's and Buddha's
 /// 16-lane diffuse packets from 0.52-0.55x rtcIntersect16 to 0.75-0.79x, but Teapot's, whose rays
 /// mostly leave the scene after a few shared nodes, from 1.18x to 0.66x; the share of one half
-/// takes them to 0.70-0.71x and 1.00x. Primary and shadow packets stay within the cone. A
+/// takes them to 0.70-0.71x and 1.00x. Primary and shadow packets stay within the cone. The lanes
+/// of such a packet that go alone walk as incoherent rays (they prefetch what they stack). A
 /// caller's explicit threshold (tests, sweeps) means exactly that threshold and no second rule.
 inline constexpr int kWideSingleRayLanes = 1;
 inline constexpr float kCoherentCosine = 0.9f;
@@ -146,7 +147,8 @@ template <class Arch>
 bvh::PacketSwitch wide_packet_switch(const RayPacket<Arch>& rays, int single_ray_lanes) {
     if (single_ray_lanes != kDefaultSingleRayLanes) return {single_ray_lanes, 0.0f};
     const bool coherent = bvh::directions_within_cone(rays, kCoherentCosine);
-    return {kWideSingleRayLanes, coherent ? 0.0f : kIncoherentMinLaneUse};
+    if (coherent) return {kWideSingleRayLanes, 0.0f, RayCoherence::coherent};
+    return {kWideSingleRayLanes, kIncoherentMinLaneUse, RayCoherence::incoherent};
 }
 
 template <std::size_t Width, std::size_t BlockSize>
@@ -168,7 +170,8 @@ template <std::size_t Width, std::size_t BlockSize>
 template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
 typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::trace_singly(const RayPacket<Arch>& rays, std::uint32_t lanes,
                                                                        bvh::ChildRef from, HitPacket<Arch>& hits,
-                                                                       Counters& counters) const {
+                                                                       Counters& counters,
+                                                                       RayCoherence coherence) const {
     using L = Lanes<typename RayPacket<Arch>::Float>;
     const auto ox = L::to_array(rays.origin.x), oy = L::to_array(rays.origin.y), oz = L::to_array(rays.origin.z);
     const auto dx = L::to_array(rays.dir.x), dy = L::to_array(rays.dir.y), dz = L::to_array(rays.dir.z);
@@ -181,7 +184,7 @@ typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::trace_singly(const Ray
         const int i = std::countr_zero(lanes);
         const Ray ray{{ox[i], oy[i], oz[i]}, {dx[i], dy[i], dz[i]}, tmin[i], tmax[i]};
         const Hit so_far = ids[i] == kNoTriangle ? Hit{kNoTriangle, t[i]} : Hit{ids[i], t[i], u[i], v[i]};
-        const Hit hit = traverse<AnyHit, Test, Slabs>(ray, from, so_far, counters);
+        const Hit hit = traverse<AnyHit, Test, Slabs>(ray, from, so_far, counters, coherence);
         if (!hit.is_hit()) continue;
         found[i] = AnyHit;
         ids[i] = hit.triangle, u[i] = hit.u, v[i] = hit.v;
@@ -214,6 +217,17 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
     const std::optional<bvh::RayGroupBounds> group = bvh::RayGroupBounds::of(rays, live);
     const bvh::WideFrustumTest<Width, Slabs> frustum(group.value_or(bvh::RayGroupBounds{}));
     const std::optional<bvh::PlaneRows> shared_rows = bvh::PlaneRows::of_octant(rays.octant);
+    // Packets from one origin (a camera's) walk the inner nodes by the frustum alone, as Embree's
+    // coherent packets do (its intersectCoherent): a child the frustum admits is entered by every
+    // lane still needing a node at the frustum's entry bound, with no box test lane by lane, and
+    // lanes that would not have entered it test a few triangles more (primary packets 1.03-1.15x
+    // on the scenes of large triangles, the scans as before). Each lane still gets the single
+    // ray's hit: with the robust slab test every hit of a lane lies in boxes its own test enters,
+    // so testing more triangles finds none it would not, and the entry bound is at most each
+    // lane's own, so it prunes no box the lane's test would keep. Shadow packets, whose origins
+    // spread, have a loose frustum and keep the lane tests (frustum alone: 0.12-0.99x).
+    const bool frustum_only =
+        group && group->shares_origin() && Slabs == SlabTest::robust && !counts_lane_use;
     constexpr std::uint32_t kAllChildren = std::uint32_t((std::uint64_t(1) << Width) - 1);
     // The largest closest-hit distance among the live lanes, an upper bound refreshed after each
     // leaf (hits only shorten it), for the frustum's far end.
@@ -248,17 +262,8 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
             std::array<float, Width> keys;  // of stack entries base, base + 1, ...
             int lane_entries = 0, children_entered = 0;
             Mask entering(false);
-            for (; candidates != 0; candidates &= candidates - 1) {
-                const std::size_t k = std::countr_zero(candidates);
-                if (node.child[k].is_empty()) break;  // the used slots come first
-                const auto [enters, t] = bvh::lanes_entering<Slabs>(node, k, rays, hits, lanes, shared_rows);
-                if (!xsimd::any(enters)) continue;
-                if (counts_lane_use) {
-                    lane_entries += simd::active_lane_count(enters);
-                    ++children_entered;
-                    entering = entering | enters;
-                }
-                const float key = group ? entry_lo[k] : simd::horizontal_min(t);
+            // Child k onto the stack with its entry distances `t`, sorted in by its order key.
+            const auto stack_child = [&](std::size_t k, float key, const Float& t) {
                 std::size_t i = stack_size++;
                 for (; i > base && keys[i - 1 - base] < key; --i) {
                     keys[i - base] = keys[i - 1 - base];
@@ -269,6 +274,25 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
                 stack_t_entry[i] = t;
                 stack_ref[i] = node.child[k];
                 prefetch(node.child[k]);
+            };
+            if (frustum_only) {  // every candidate, every lane at the frustum's entry bound
+                for (; candidates != 0; candidates &= candidates - 1) {
+                    const std::size_t k = std::countr_zero(candidates);
+                    if (node.child[k].is_empty()) break;  // the used slots come first
+                    stack_child(k, entry_lo[k], Float(entry_lo[k]));
+                }
+            }
+            for (; candidates != 0; candidates &= candidates - 1) {  // none left where frustum_only
+                const std::size_t k = std::countr_zero(candidates);
+                if (node.child[k].is_empty()) break;
+                const auto [enters, t] = bvh::lanes_entering<Slabs>(node, k, rays, hits, lanes, shared_rows);
+                if (!xsimd::any(enters)) continue;
+                if (counts_lane_use) {
+                    lane_entries += simd::active_lane_count(enters);
+                    ++children_entered;
+                    entering = entering | enters;
+                }
+                stack_child(k, group ? entry_lo[k] : simd::horizontal_min(t), t);
             }
             assert(stack_size <= kStackSize);
             if (counts_lane_use && children_entered > 1 &&
@@ -290,7 +314,9 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
             }
             if (group) group_t_max = largest_t();
         }
-        if (alone != 0) blocked = blocked | trace_singly<AnyHit, Test, Slabs>(rays, alone, current, hits, counters);
+        if (alone != 0)
+            blocked = blocked | trace_singly<AnyHit, Test, Slabs>(rays, alone, current, hits, counters,
+                                                                  to_single_rays.alone);
         for (;;) {  // pop the next node some lane still needs
             if (stack_size == 0) return blocked;
             --stack_size;

@@ -352,6 +352,60 @@ TEST_CASE(
     });
 }
 
+/// Rays from one point below the box on every axis (so of one octant) to points of the box:
+/// packets of them walk by the frustum alone (wide_packet.h). `grid` > 0 aims them at the points
+/// of a grid of that many cells a side through the box (on a lattice: its edges and vertices);
+/// otherwise at random points.
+std::vector<Ray> rays_from_one_point(const Aabb& box, std::size_t count, unsigned seed, int grid = 0) {
+    const Vec3f extent = box.extent();
+    const Vec3f origin = box.lo - 0.75f * extent;
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    std::uniform_int_distribution<int> cell(0, std::max(grid, 1));
+    std::vector<Ray> rays;
+    for (std::size_t i = 0; i < count; ++i) {
+        Vec3f target;
+        for (int axis = 0; axis < 3; ++axis) {
+            const float share = grid > 0 ? float(cell(rng)) / float(grid) : unit(rng);
+            target[axis] = box.lo[axis] + share * extent[axis];
+        }
+        rays.push_back(Ray{origin, target - origin});
+    }
+    return rays;
+}
+
+TEST_CASE("packets from one point walk by the frustum alone and give every lane the single ray's hit") {
+    const Mesh soup = random_soup(700, 57, 0.15f);
+    const Mesh lattice = axis_lattice();
+    for_each_packet_arch([&]<class Arch>() {  // such packets are the ones that take the frustum alone
+        const std::vector<Ray> rays = rays_from_one_point(soup.bounds(), RayPacket<Arch>::width, 64);
+        const RayPacket<Arch> packet(rays);
+        const auto group = bvh::RayGroupBounds::of(packet, packet.active);
+        REQUIRE(group.has_value());
+        CHECK(group->shares_origin());
+        std::vector<Ray> moved = rays;  // one origin moved: the lane tests again
+        moved.back().origin.x += 1.0f;
+        const auto moved_group = bvh::RayGroupBounds::of(RayPacket<Arch>(moved), packet.active);
+        REQUIRE(moved_group.has_value());
+        CHECK_FALSE(moved_group->shares_origin());
+    });
+    for_each_wide_tree(soup, {}, [&](const auto& wide) {
+        using Tree = std::decay_t<decltype(wide)>;
+        check_packets(wide, rays_from_one_point(soup.bounds(), 640, 58));
+        check_packets<Tree::width, Tree::block_size, TriangleTest::moller_trumbore>(
+            wide, rays_from_one_point(soup.bounds(), 320, 59));
+        check_packets(wide, rays_from_one_point(soup.bounds(), 320, 60), [](std::size_t lane) { return lane % 3 == 1; });
+    });
+    for_each_wide_tree(lattice, {}, [&](const auto& wide) {
+        check_packets(wide, rays_from_one_point(lattice.bounds(), 640, 61, 8));  // through edges and vertices
+    });
+    BvhOptions spatial;
+    spatial.builder = BvhBuilder::spatial_sah;
+    const Mesh large = soup_with_large_triangles(1500, 20, 62);
+    for_each_wide_tree(large, spatial,
+                       [&](const auto& wide) { check_packets(wide, rays_from_one_point(large.bounds(), 640, 63)); });
+}
+
 TEST_CASE("wide packets give every lane the wide single ray's hit bit for bit") {
     const Mesh soup = random_soup(700, 51, 0.15f);
     const std::vector<Ray> incoherent = random_rays(soup.bounds(), 400, 52);
