@@ -88,8 +88,9 @@ cmake --build build-native -j2 --target trident-bench trident_python > /dev/null
 cmake -S . -B build-portable -G Ninja -DCMAKE_BUILD_TYPE=Release -DTRIDENT_MARCH=portable > /dev/null
 cmake --build build-portable -j2 --target trident-bench > /dev/null
 commit=$(git rev-parse --short HEAD)
-dirty=$(git status --porcelain --untracked-files=no -- . ':!bench/results' ':!bench/charts' ':!bench/RESULTS.md' |
-    head -c 1 | wc -c)
+# Uncommitted changes outside what the run writes and the trials' notes (which no binary reads).
+dirty=$(git status --porcelain --untracked-files=no -- . ':!bench/results' ':!bench/charts' ':!bench/RESULTS.md' \
+    ':!bench/experiments' | head -c 1 | wc -c)
 date=$(date -u +%Y-%m-%dT%H:%M:%SZ)
 
 # The run set replaces the last one whole: no file of an older run stays beside it.

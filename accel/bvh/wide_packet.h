@@ -1,7 +1,8 @@
 #pragma once
 // Ray packets through the wide BVH (instantiated in wide_bvh_packet_kernels.cpp): the whole
 // packet walks the tree with one stack, each of a node's children tested against every lane (one
-// lane per ray, the slab test of core/slab_test.h with the planes ordered per lane), the children
+// lane per ray, the slab test of core/slab_test.h with the planes ordered per lane) or, for a
+// packet from one origin, against the packet's frustum alone (wide_frustum.h), the children
 // some lane enters visited nearest first by their nearest lane's entry, and subtrees that at most
 // `single_ray_lanes` lanes still need handed to the single-ray walk (Benthin et al. 2012, as
 // bvh_packet.h and Embree's hybrid traversal do), as are, for packets whose directions spread
