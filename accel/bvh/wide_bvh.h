@@ -45,11 +45,9 @@ namespace bvh {
 /// `single_ray_lanes` lanes need; and, where `min_lane_use` > 0, at a node whose entered children
 /// its lanes use less than that share of (children entered) x (lanes entering any of them): then
 /// each of those lanes walks the node's subtree alone (Benthin et al. 2012's utilization switch).
-/// `alone` is how those lanes walk: incoherent for a packet whose directions spread wide.
 struct PacketSwitch {
     int single_ray_lanes = 1;
     float min_lane_use = 0.0f;
-    RayCoherence alone = RayCoherence::coherent;
 };
 
 }  // namespace bvh

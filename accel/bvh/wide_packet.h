@@ -148,8 +148,7 @@ template <class Arch>
 bvh::PacketSwitch wide_packet_switch(const RayPacket<Arch>& rays, int single_ray_lanes) {
     if (single_ray_lanes != kDefaultSingleRayLanes) return {single_ray_lanes, 0.0f};
     const bool coherent = bvh::directions_within_cone(rays, kCoherentCosine);
-    if (coherent) return {kWideSingleRayLanes, 0.0f, RayCoherence::coherent};
-    return {kWideSingleRayLanes, kIncoherentMinLaneUse, RayCoherence::incoherent};
+    return {kWideSingleRayLanes, coherent ? 0.0f : kIncoherentMinLaneUse};
 }
 
 template <std::size_t Width, std::size_t BlockSize>
@@ -206,6 +205,9 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
     using Mask = typename RayPacket<Arch>::Mask;
     const int single_ray_lanes = to_single_rays.single_ray_lanes;
     const bool counts_lane_use = to_single_rays.min_lane_use > 0.0f;
+    // Only a packet whose directions spread counts lane use (wide_packet_switch): its lanes that go
+    // alone walk as incoherent rays.
+    const RayCoherence alone_walk = counts_lane_use ? RayCoherence::incoherent : RayCoherence::coherent;
     assert(single_ray_lanes >= 0 && std::size_t(single_ray_lanes) <= RayPacket<Arch>::width);
 
     const Mask live = rays.active & (rays.tmin <= rays.tmax);
@@ -282,18 +284,19 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
                     if (node.child[k].is_empty()) break;  // the used slots come first
                     stack_child(k, entry_lo[k], Float(entry_lo[k]));
                 }
-            }
-            for (; candidates != 0; candidates &= candidates - 1) {  // none left where frustum_only
-                const std::size_t k = std::countr_zero(candidates);
-                if (node.child[k].is_empty()) break;
-                const auto [enters, t] = bvh::lanes_entering<Slabs>(node, k, rays, hits, lanes, shared_rows);
-                if (!xsimd::any(enters)) continue;
-                if (counts_lane_use) {
-                    lane_entries += simd::active_lane_count(enters);
-                    ++children_entered;
-                    entering = entering | enters;
+            } else {
+                for (; candidates != 0; candidates &= candidates - 1) {
+                    const std::size_t k = std::countr_zero(candidates);
+                    if (node.child[k].is_empty()) break;
+                    const auto [enters, t] = bvh::lanes_entering<Slabs>(node, k, rays, hits, lanes, shared_rows);
+                    if (!xsimd::any(enters)) continue;
+                    if (counts_lane_use) {
+                        lane_entries += simd::active_lane_count(enters);
+                        ++children_entered;
+                        entering = entering | enters;
+                    }
+                    stack_child(k, group ? entry_lo[k] : simd::horizontal_min(t), t);
                 }
-                stack_child(k, group ? entry_lo[k] : simd::horizontal_min(t), t);
             }
             assert(stack_size <= kStackSize);
             if (counts_lane_use && children_entered > 1 &&
@@ -317,7 +320,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
         }
         if (alone != 0)
             blocked = blocked | trace_singly<AnyHit, Test, Slabs>(rays, alone, current, hits, counters,
-                                                                  to_single_rays.alone);
+                                                                  alone_walk);
         for (;;) {  // pop the next node some lane still needs
             if (stack_size == 0) return blocked;
             --stack_size;

@@ -13,6 +13,7 @@
 #include "render/trace.h"
 #include "render_test_scenes.h"
 #include "scenes/builtin.h"
+#include "support/packet_agreement.h"
 
 using namespace trident;
 using trident::testing::add_floor_quad;
@@ -167,9 +168,7 @@ TEST_CASE("occlusion agrees with closest hit on incoherent rays, for every struc
         std::vector<Hit> hinted(diffuse.rays.size());
         intersect_stream(accel, diffuse.rays, hinted, {.coherence = RayCoherence::incoherent});
         std::size_t hinted_differs = 0;
-        for (std::size_t i = 0; i < hinted.size(); ++i)
-            hinted_differs += hinted[i].triangle != scalar_hits[i].triangle || hinted[i].t != scalar_hits[i].t ||
-                              hinted[i].u != scalar_hits[i].u || hinted[i].v != scalar_hits[i].v;
+        for (std::size_t i = 0; i < hinted.size(); ++i) hinted_differs += !testing::same_bits(hinted[i], scalar_hits[i]);
         CHECK(hinted_differs == 0);
         std::size_t occluded_count = 0;
         for (SimdWidth width : runnable_widths()) {
