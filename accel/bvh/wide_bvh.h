@@ -45,9 +45,12 @@ namespace bvh {
 /// `single_ray_lanes` lanes need; and, where `min_lane_use` > 0, at a node whose entered children
 /// its lanes use less than that share of (children entered) x (lanes entering any of them): then
 /// each of those lanes walks the node's subtree alone (Benthin et al. 2012's utilization switch).
+/// `coherence` is the packet's: incoherent lanes walk alone as incoherent rays (they prefetch what
+/// they stack), and only a coherent packet may be walked by its frustum alone.
 struct PacketSwitch {
     int single_ray_lanes = 1;
     float min_lane_use = 0.0f;
+    RayCoherence coherence = RayCoherence::coherent;
 };
 
 }  // namespace bvh

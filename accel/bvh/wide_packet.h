@@ -5,9 +5,10 @@
 // packet from one origin, against the packet's frustum alone (wide_frustum.h), the children
 // some lane enters visited nearest first by their nearest lane's entry, and subtrees that at most
 // `single_ray_lanes` lanes still need handed to the single-ray walk (Benthin et al. 2012, as
-// bvh_packet.h and Embree's hybrid traversal do), as are, for packets whose directions spread
-// wide, the lanes of a node whose children they mostly do not share (wide_packet_switch). A leaf
-// tests each of its triangles against the lanes that need it.
+// bvh_packet.h and Embree's hybrid traversal do). Packets whose directions spread wide go lane by
+// lane from the root over a large tree, and from a node whose children their lanes mostly do not
+// share over a small one (wide_packet_switch). A leaf tests each of its triangles against the
+// lanes that need it.
 //
 // Per lane, the box test, the pruning rule (entry <= closest hit widened by kPruneSlack) and the
 // tie rule (lowest id at equal t) are the single-ray walk's, so every lane ends with the single
@@ -132,30 +133,38 @@ bool directions_within_cone(const RayPacket<Arch>& rays, float cos_half_angle) {
 
 /// The structure's own switch, where the caller leaves it (kDefaultSingleRayLanes): a last single
 /// lane goes alone; and a packet whose directions spread beyond a cone of about 26 degrees
-/// (cosine 0.9), as diffuse rays do, also goes ray by ray below a node whose entered children its
-/// lanes use less than half. Measured against Embree's packets of the same rays (one thread,
-/// bench/experiments/bvh-traversal.md): all lanes alone from the root took Gallery's and Buddha's
-/// 16-lane diffuse packets from 0.52-0.55x rtcIntersect16 to 0.75-0.79x, but Teapot's, whose rays
-/// mostly leave the scene after a few shared nodes, from 1.18x to 0.66x; the share of one half
-/// takes them to 0.70-0.71x and 1.00x. Primary and shadow packets stay within the cone. The lanes
-/// of such a packet that go alone walk as incoherent rays (they prefetch what they stack). A
-/// caller's explicit threshold (tests, sweeps) means exactly that threshold and no second rule.
+/// (cosine 0.9), as diffuse rays do, walks ray by ray: over a tree of at least
+/// kIncoherentAloneMinBlocks blocks every lane alone from the root (Embree's hybrid packets go
+/// single as soon as one of 8 lanes, or two of 16, drops out); over a smaller tree below a node
+/// whose entered children its lanes use less than half. Measured against Embree's packets of the
+/// same rays (one thread, bench/experiments/bvh-traversal.md, "Incoherent packets alone from the
+/// root"): alone from the root took six study scenes' 8-lane diffuse packets from 0.74-0.80x
+/// rtcIntersect8 to 0.91-0.95x and their 16-lane ones from 0.81-0.88x to 0.94-0.96x, but
+/// Teapot's, whose short walks through a tree of under 2000 blocks share most nodes, from
+/// 0.93-1.02x to 0.77-0.82x, where the share of one half keeps them (the 8192 blocks lie between
+/// Teapot's 1.9 thousand and the next scene's 45). Primary and shadow packets stay within the
+/// cone. A caller's explicit threshold (tests, sweeps) means exactly that threshold and no second
+/// rule.
 inline constexpr int kWideSingleRayLanes = 1;
 inline constexpr float kCoherentCosine = 0.9f;
 inline constexpr float kIncoherentMinLaneUse = 0.5f;
+inline constexpr std::size_t kIncoherentAloneMinBlocks = 8192;
 
 template <class Arch>
-bvh::PacketSwitch wide_packet_switch(const RayPacket<Arch>& rays, int single_ray_lanes) {
+bvh::PacketSwitch wide_packet_switch(const RayPacket<Arch>& rays, int single_ray_lanes, std::size_t tree_blocks) {
     if (single_ray_lanes != kDefaultSingleRayLanes) return {single_ray_lanes, 0.0f};
-    const bool coherent = bvh::directions_within_cone(rays, kCoherentCosine);
-    return {kWideSingleRayLanes, coherent ? 0.0f : kIncoherentMinLaneUse};
+    if (bvh::directions_within_cone(rays, kCoherentCosine)) return {kWideSingleRayLanes, 0.0f};
+    if (tree_blocks >= kIncoherentAloneMinBlocks)
+        return {int(RayPacket<Arch>::width), 0.0f, RayCoherence::incoherent};
+    return {kWideSingleRayLanes, kIncoherentMinLaneUse, RayCoherence::incoherent};
 }
 
 template <std::size_t Width, std::size_t BlockSize>
 template <TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
 void WideBvh<Width, BlockSize>::intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters,
                                           int single_ray_lanes) const {
-    traverse_packet<false, Test, Slabs>(rays, hits, counters, wide_packet_switch(rays, single_ray_lanes));
+    traverse_packet<false, Test, Slabs>(rays, hits, counters,
+                                        wide_packet_switch(rays, single_ray_lanes, blocks_.size()));
 }
 
 template <std::size_t Width, std::size_t BlockSize>
@@ -163,7 +172,8 @@ template <TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
 typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::occluded(const RayPacket<Arch>& rays, Counters& counters,
                                                                    int single_ray_lanes) const {
     HitPacket<Arch> limits(rays);
-    return traverse_packet<true, Test, Slabs>(rays, limits, counters, wide_packet_switch(rays, single_ray_lanes));
+    return traverse_packet<true, Test, Slabs>(rays, limits, counters,
+                                              wide_packet_switch(rays, single_ray_lanes, blocks_.size()));
 }
 
 template <std::size_t Width, std::size_t BlockSize>
@@ -205,14 +215,16 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
     using Mask = typename RayPacket<Arch>::Mask;
     const int single_ray_lanes = to_single_rays.single_ray_lanes;
     const bool counts_lane_use = to_single_rays.min_lane_use > 0.0f;
-    // Only a packet whose directions spread counts lane use (wide_packet_switch): its lanes that go
-    // alone walk as incoherent rays.
-    const RayCoherence alone_walk = counts_lane_use ? RayCoherence::incoherent : RayCoherence::coherent;
+    const RayCoherence alone_walk = to_single_rays.coherence;
     assert(single_ray_lanes >= 0 && std::size_t(single_ray_lanes) <= RayPacket<Arch>::width);
 
     const Mask live = rays.active & (rays.tmin <= rays.tmax);
     Mask blocked(false);  // any-hit lanes that have hit
     if (nodes_.empty() || !xsimd::any(live)) return blocked;
+    // Lanes that all go alone from the root need none of the packet's bounds and precomputation.
+    if (simd::active_lane_count(live) <= single_ray_lanes)
+        return trace_singly<AnyHit, Test, Slabs>(rays, simd::mask_bits(live), bvh::ChildRef::node_at(0), hits, counters,
+                                                 alone_walk);
     const auto intersector = packet_intersector<Test>(rays);
     const Float inf(kInfinity);
     // Packets of one octant first test a node's children against all their lanes at once
@@ -229,8 +241,8 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
     // so testing more triangles finds none it would not, and the entry bound is at most each
     // lane's own, so it prunes no box the lane's test would keep. Shadow packets, whose origins
     // spread, have a loose frustum and keep the lane tests (frustum alone: 0.12-1.02x).
-    const bool frustum_only =
-        group && group->shares_origin() && Slabs == SlabTest::robust && !counts_lane_use;
+    const bool frustum_only = group && group->shares_origin() && Slabs == SlabTest::robust &&
+                              to_single_rays.coherence == RayCoherence::coherent;
     constexpr std::uint32_t kAllChildren = std::uint32_t((std::uint64_t(1) << Width) - 1);
     // The largest closest-hit distance among the live lanes, an upper bound refreshed after each
     // leaf (hits only shorten it), for the frustum's far end.

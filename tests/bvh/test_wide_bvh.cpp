@@ -431,10 +431,18 @@ TEST_CASE("wide packets give every lane the wide single ray's hit bit for bit") 
     const Scene& teapot = builtin_scene("teapot");
     const std::vector<Ray> blocks = pixel_block_rays(teapot.camera, 320, 180, 4, 4, 200, 55);
     for_each_wide_tree(teapot.mesh, {}, [&](const auto& wide) { check_packets(wide, blocks); });
+    // Over a tree this large, incoherent packets go alone from the root (wide_packet_switch).
+    const Mesh many = random_soup(5 * kIncoherentAloneMinBlocks, 56, 0.02f);
+    const std::vector<Ray> through_many = random_rays(many.bounds(), 200, 57);
+    for_each_wide_tree(many, {}, [&](const auto& wide) {
+        REQUIRE(wide.blocks().size() >= kIncoherentAloneMinBlocks);
+        check_packets(wide, through_many);
+    });
 }
 
 TEST_CASE(
-    "by default only a packet whose directions spread beyond the cone switches to single rays where its lanes part") {
+    "by default only a packet whose directions spread beyond the cone switches to single rays: over a large tree "
+    "from the root, over a small one where its lanes part") {
     for_each_packet_arch([&]<class Arch>() {
         // Every lane along (1, 0, 0) but lane 1, turned by `degrees` in the xy plane, and scaled:
         // the test takes directions of any length.
@@ -448,15 +456,28 @@ TEST_CASE(
         CHECK(bvh::directions_within_cone(packet_turned_by(20.0f), kCoherentCosine));
         CHECK_FALSE(bvh::directions_within_cone(packet_turned_by(40.0f), kCoherentCosine));
         CHECK_FALSE(bvh::directions_within_cone(packet_turned_by(180.0f), kCoherentCosine));
-        const bvh::PacketSwitch coherent = wide_packet_switch(packet_turned_by(20.0f), kDefaultSingleRayLanes);
-        const bvh::PacketSwitch spread = wide_packet_switch(packet_turned_by(40.0f), kDefaultSingleRayLanes);
-        const bvh::PacketSwitch asked = wide_packet_switch(packet_turned_by(40.0f), 3);
-        CHECK(coherent.single_ray_lanes == kWideSingleRayLanes);
-        CHECK(coherent.min_lane_use == 0.0f);
-        CHECK(spread.single_ray_lanes == kWideSingleRayLanes);
-        CHECK(spread.min_lane_use == kIncoherentMinLaneUse);
-        CHECK(asked.single_ray_lanes == 3);
-        CHECK(asked.min_lane_use == 0.0f);
+        constexpr std::size_t kSmallTree = kIncoherentAloneMinBlocks - 1, kLargeTree = kIncoherentAloneMinBlocks;
+        for (const std::size_t blocks : {kSmallTree, kLargeTree}) {
+            const bvh::PacketSwitch coherent =
+                wide_packet_switch(packet_turned_by(20.0f), kDefaultSingleRayLanes, blocks);
+            const bvh::PacketSwitch asked = wide_packet_switch(packet_turned_by(40.0f), 3, blocks);
+            CHECK(coherent.single_ray_lanes == kWideSingleRayLanes);
+            CHECK(coherent.min_lane_use == 0.0f);
+            CHECK(coherent.coherence == RayCoherence::coherent);
+            CHECK(asked.single_ray_lanes == 3);
+            CHECK(asked.min_lane_use == 0.0f);
+            CHECK(asked.coherence == RayCoherence::coherent);
+        }
+        const bvh::PacketSwitch spread_small =
+            wide_packet_switch(packet_turned_by(40.0f), kDefaultSingleRayLanes, kSmallTree);
+        CHECK(spread_small.single_ray_lanes == kWideSingleRayLanes);
+        CHECK(spread_small.min_lane_use == kIncoherentMinLaneUse);
+        CHECK(spread_small.coherence == RayCoherence::incoherent);
+        const bvh::PacketSwitch spread_large =
+            wide_packet_switch(packet_turned_by(40.0f), kDefaultSingleRayLanes, kLargeTree);
+        CHECK(spread_large.single_ray_lanes == int(RayPacket<Arch>::width));
+        CHECK(spread_large.min_lane_use == 0.0f);
+        CHECK(spread_large.coherence == RayCoherence::incoherent);
         // Two lanes opposite each other: the second lies outside every cone around the first.
         CHECK_FALSE(bvh::directions_within_cone(packet_turned_by(180.0f, 2), kCoherentCosine));
         // Lanes past the rays copy the first ray and count for nothing.
