@@ -215,7 +215,9 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
     using Mask = typename RayPacket<Arch>::Mask;
     const int single_ray_lanes = to_single_rays.single_ray_lanes;
     const bool counts_lane_use = to_single_rays.min_lane_use > 0.0f;
-    const RayCoherence alone_walk = to_single_rays.coherence;
+    // Lanes of an incoherent packet that go alone walk as incoherent rays, and only a coherent
+    // packet walks by the frustum alone.
+    const RayCoherence coherence = to_single_rays.coherence;
     assert(single_ray_lanes >= 0 && std::size_t(single_ray_lanes) <= RayPacket<Arch>::width);
 
     const Mask live = rays.active & (rays.tmin <= rays.tmax);
@@ -224,7 +226,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
     // Lanes that all go alone from the root need none of the packet's bounds and precomputation.
     if (simd::active_lane_count(live) <= single_ray_lanes)
         return trace_singly<AnyHit, Test, Slabs>(rays, simd::mask_bits(live), bvh::ChildRef::node_at(0), hits, counters,
-                                                 alone_walk);
+                                                 coherence);
     const auto intersector = packet_intersector<Test>(rays);
     const Float inf(kInfinity);
     // Packets of one octant first test a node's children against all their lanes at once
@@ -241,8 +243,8 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
     // so testing more triangles finds none it would not, and the entry bound is at most each
     // lane's own, so it prunes no box the lane's test would keep. Shadow packets, whose origins
     // spread, have a loose frustum and keep the lane tests (frustum alone: 0.12-1.02x).
-    const bool frustum_only = group && group->shares_origin() && Slabs == SlabTest::robust &&
-                              to_single_rays.coherence == RayCoherence::coherent;
+    const bool frustum_only =
+        group && group->shares_origin() && Slabs == SlabTest::robust && coherence == RayCoherence::coherent;
     constexpr std::uint32_t kAllChildren = std::uint32_t((std::uint64_t(1) << Width) - 1);
     // The largest closest-hit distance among the live lanes, an upper bound refreshed after each
     // leaf (hits only shorten it), for the frustum's far end.
@@ -331,8 +333,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
             if (group) group_t_max = largest_t();
         }
         if (alone != 0)
-            blocked = blocked | trace_singly<AnyHit, Test, Slabs>(rays, alone, current, hits, counters,
-                                                                  alone_walk);
+            blocked = blocked | trace_singly<AnyHit, Test, Slabs>(rays, alone, current, hits, counters, coherence);
         for (;;) {  // pop the next node some lane still needs
             if (stack_size == 0) return blocked;
             --stack_size;
