@@ -26,6 +26,7 @@
 #include "accel/accel_stats.h"
 #include "accel/bvh/bvh_node.h"
 #include "accel/bvh/bvh_options.h"
+#include "accel/bvh/packet_coherence.h"
 #include "accel/bvh/wide_box_test.h"
 #include "accel/bvh/wide_node.h"
 #include "accel/packet_kernels.h"
@@ -99,6 +100,14 @@ public:
     template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters>
     typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters,
                                             int single_ray_lanes = kDefaultSingleRayLanes) const;
+
+    /// Whether a packet of `rays` (traced ones, at most a packet's width) walks every lane alone
+    /// from the root under the structure's own switch (wide_packet_switch): a caller still holding
+    /// the rays one by one then traces them as incoherent single rays, the walks the packet's
+    /// lanes would take, without building the packet and taking it apart (ray_stream.cpp).
+    bool packet_walks_lanes_alone(std::span<const Ray> rays) const {
+        return bvh::lanes_walk_alone(rays, blocks_.size());
+    }
 
     const AccelStats& stats() const { return stats_; }
     const BvhOptions& options() const { return options_; }

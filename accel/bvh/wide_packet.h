@@ -19,6 +19,7 @@
 #include <optional>
 #include <xsimd/xsimd.hpp>
 
+#include "accel/bvh/packet_coherence.h"
 #include "accel/bvh/wide_bvh.h"
 #include "accel/bvh/wide_frustum.h"
 #include "simd/mask.h"
@@ -112,28 +113,11 @@ typename RayPacket<Arch>::Mask test_triangle_lanes(const Intersector& intersecto
     }
 }
 
-/// Whether every live lane's direction lies within the cone around lane 0's direction whose
-/// half-angle has cosine `cos_half_angle` (lane 0 holds a finite direction even when inactive).
-/// Only a choice of walk depends on it, never a hit, so the directions need not be unit length.
-/// Lane 0 rather than the lanes' mean as the axis: three horizontal sums per packet cost Teapot's
-/// primary packets several per cent (perf), where the walk itself is short.
-template <class Arch>
-bool directions_within_cone(const RayPacket<Arch>& rays, float cos_half_angle) {
-    using Float = typename RayPacket<Arch>::Float;
-    const Vec3T<float> axis(rays.dir.x.get(0), rays.dir.y.get(0), rays.dir.z.get(0));
-    const float axis_length2 = dot(axis, axis);
-    if (!(axis_length2 > 0.0f)) return false;
-    // cos(d, axis) >= c, squared to need no root: dot >= 0 and dot^2 >= c^2 |d|^2 |axis|^2.
-    const Float along = dot(rays.dir, Vec3T<Float>(Float(axis.x), Float(axis.y), Float(axis.z)));
-    const Float bound = Float(cos_half_angle * cos_half_angle * axis_length2) * dot(rays.dir, rays.dir);
-    return !xsimd::any(rays.active & ((along < Float(0.0f)) | (along * along < bound)));
-}
-
 }  // namespace bvh
 
-/// The structure's own switch, where the caller leaves it (kDefaultSingleRayLanes): a last single
-/// lane goes alone; and a packet whose directions spread beyond a cone of about 26 degrees
-/// (cosine 0.9), as diffuse rays do, walks ray by ray: over a tree of at least
+/// The structure's own switch, where the caller leaves it (kDefaultSingleRayLanes), with the
+/// constants of packet_coherence.h: a last single lane goes alone; and a packet whose directions
+/// spread beyond the cone, as diffuse rays do, walks ray by ray: over a tree of at least
 /// kIncoherentAloneMinBlocks blocks every lane alone from the root (Embree's hybrid packets go
 /// single as soon as one of 8 lanes, or two of 16, drops out); over a smaller tree below a node
 /// whose entered children its lanes use less than half. Measured against Embree's packets of the
@@ -145,11 +129,6 @@ bool directions_within_cone(const RayPacket<Arch>& rays, float cos_half_angle) {
 /// Teapot's 1.9 thousand and the next scene's 45). Primary and shadow packets stay within the
 /// cone. A caller's explicit threshold (tests, sweeps) means exactly that threshold and no second
 /// rule.
-inline constexpr int kWideSingleRayLanes = 1;
-inline constexpr float kCoherentCosine = 0.9f;
-inline constexpr float kIncoherentMinLaneUse = 0.5f;
-inline constexpr std::size_t kIncoherentAloneMinBlocks = 8192;
-
 template <class Arch>
 bvh::PacketSwitch wide_packet_switch(const RayPacket<Arch>& rays, int single_ray_lanes, std::size_t tree_blocks) {
     if (single_ray_lanes != kDefaultSingleRayLanes) return {single_ray_lanes, 0.0f};
@@ -274,7 +253,10 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
             if (group) candidates = frustum.may_enter(node, bvh::prune_limit(group_t_max), entry_lo);
             // The entered children go straight onto the stack, kept sorted as they come by their
             // order key (the frustum's bound where there is one, free; else the nearest lane's
-            // entry), farthest first: the nearest ends on top and is popped next.
+            // entry), farthest first: the nearest ends on top and is popped next. Any-hit packets
+            // keep no order, as the single-ray any-hit walk and Embree's occluded packets keep
+            // none: any hit ends a lane's search, so the nearest child is no better a guess, and
+            // sorting cost shadow packets 3-11% (bench/experiments/bvh-traversal.md).
             const std::size_t base = stack_size;
             std::array<float, Width> keys;  // of stack entries base, base + 1, ...
             int lane_entries = 0, children_entered = 0;
@@ -282,12 +264,14 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
             // Child k onto the stack with its entry distances `t`, sorted in by its order key.
             const auto stack_child = [&](std::size_t k, float key, const Float& t) {
                 std::size_t i = stack_size++;
-                for (; i > base && keys[i - 1 - base] < key; --i) {
-                    keys[i - base] = keys[i - 1 - base];
-                    stack_t_entry[i] = stack_t_entry[i - 1];
-                    stack_ref[i] = stack_ref[i - 1];
+                if constexpr (!AnyHit) {
+                    for (; i > base && keys[i - 1 - base] < key; --i) {
+                        keys[i - base] = keys[i - 1 - base];
+                        stack_t_entry[i] = stack_t_entry[i - 1];
+                        stack_ref[i] = stack_ref[i - 1];
+                    }
+                    keys[i - base] = key;
                 }
-                keys[i - base] = key;
                 stack_t_entry[i] = t;
                 stack_ref[i] = node.child[k];
                 prefetch(node.child[k]);
@@ -309,7 +293,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
                         ++children_entered;
                         entering = entering | enters;
                     }
-                    stack_child(k, group ? entry_lo[k] : simd::horizontal_min(t), t);
+                    stack_child(k, AnyHit ? 0.0f : group ? entry_lo[k] : simd::horizontal_min(t), t);
                 }
             }
             assert(stack_size <= kStackSize);

@@ -27,8 +27,30 @@ void trace_single(const Structure& structure, std::span<const Ray> rays, std::sp
     }
 }
 
+/// The rays one at a time, in the widest kernel file the CPU (and the cap) allow in the portable
+/// build, else in the baseline's.
+template <bool AnyHit, class Structure>
+void trace_singly(const Structure& structure, std::span<const Ray> rays, std::span<Result<AnyHit>> out,
+                  TriangleTest test, SlabTest slabs, RayCoherence coherence) {
+    const bool in_kernel_file = in_widest_kernel_file([&]<SimdWidth File>() {
+        using FileKernels = SingleRayKernels<Structure, File>;
+        if constexpr (AnyHit)
+            FileKernels::occlude_rays(structure, rays, out, test, slabs);
+        else
+            FileKernels::intersect_rays(structure, rays, out, test, slabs, coherence);
+    });
+    if (in_kernel_file) return;
+    with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
+        trace_single<AnyHit, decltype(test_tag)::value, decltype(slabs_tag)::value>(structure, rays, out, coherence);
+    });
+}
+
 /// One packet of the rays at `index` (at most the width's lanes), its results written to `out`,
-/// traced in the kernel file of width `File`.
+/// traced in the kernel file of width `File`. A packet whose lanes would all walk alone from the
+/// root (the wide BVH's incoherent packets over a large tree) is traced as the single rays it
+/// would become, without building it: its assembly, the lanes' conversion back and the hits'
+/// scatter cost Bunny's diffuse rays 9% over the single rays' time (perf,
+/// bench/experiments/bvh-traversal.md).
 template <bool AnyHit, SimdWidth Width, SimdWidth File, class Structure>
 void trace_packet(const Structure& structure, std::span<const Ray> rays, std::span<const std::size_t> index,
                   std::span<Result<AnyHit>> out, PacketVariant variant) {
@@ -36,14 +58,21 @@ void trace_packet(const Structure& structure, std::span<const Ray> rays, std::sp
     std::array<Ray, Kernels::kLanes> lane_rays;
     for (std::size_t k = 0; k < index.size(); ++k) lane_rays[k] = rays[index[k]];
     const std::span<const Ray> packet(lane_rays.data(), index.size());
-    if constexpr (AnyHit) {
+    std::array<Result<AnyHit>, Kernels::kLanes> lane_results;
+    bool alone = false;
+    if constexpr (requires { structure.packet_walks_lanes_alone(packet); })
+        alone = variant.single_ray_lanes == kDefaultSingleRayLanes && structure.packet_walks_lanes_alone(packet);
+    if (alone) {
+        trace_singly<AnyHit>(structure, packet, std::span(lane_results.data(), index.size()), variant.test,
+                             variant.slabs, RayCoherence::incoherent);
+    } else if constexpr (AnyHit) {
         const std::uint32_t bits = Kernels::occlude_rays(structure, packet, variant);
         for (std::size_t k = 0; k < index.size(); ++k) out[index[k]] = (bits >> k) & 1u;
+        return;
     } else {
-        std::array<Hit, Kernels::kLanes> lane_hits;
-        Kernels::intersect_rays(structure, packet, std::span<Hit>(lane_hits.data(), index.size()), variant);
-        for (std::size_t k = 0; k < index.size(); ++k) out[index[k]] = lane_hits[k];
+        Kernels::intersect_rays(structure, packet, std::span(lane_results.data(), index.size()), variant);
     }
+    for (std::size_t k = 0; k < index.size(); ++k) out[index[k]] = lane_results[k];
 }
 
 template <bool AnyHit, SimdWidth Width, SimdWidth File, class Structure>
@@ -61,22 +90,8 @@ void trace_stream(const AnyAccel& accel, std::span<const Ray> rays, std::span<Re
                   StreamTraversal traversal, TriangleTest test) {
     // Single rays take the variant as template arguments; the packet kernels take it at run time.
     if (traversal.width == SimdWidth::scalar) {
-        // The portable build's single rays run in the widest kernel file the CPU (and the cap) allow.
-        const bool in_kernel_file = in_widest_kernel_file([&]<SimdWidth File>() {
-            accel.visit([&](const auto& structure) {
-                using FileKernels = SingleRayKernels<std::decay_t<decltype(structure)>, File>;
-                if constexpr (AnyHit)
-                    FileKernels::occlude_rays(structure, rays, out, test, traversal.slabs);
-                else
-                    FileKernels::intersect_rays(structure, rays, out, test, traversal.slabs, traversal.coherence);
-            });
-        });
-        if (in_kernel_file) return;
-        with_traversal_variant(test, traversal.slabs, [&](auto test_tag, auto slabs_tag) {
-            accel.visit([&](const auto& structure) {
-                trace_single<AnyHit, decltype(test_tag)::value, decltype(slabs_tag)::value>(structure, rays, out,
-                                                                                         traversal.coherence);
-            });
+        accel.visit([&](const auto& structure) {
+            trace_singly<AnyHit>(structure, rays, out, test, traversal.slabs, traversal.coherence);
         });
         return;
     }

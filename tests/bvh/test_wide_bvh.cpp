@@ -484,3 +484,27 @@ TEST_CASE(
         CHECK(bvh::directions_within_cone(packet_turned_by(20.0f, 2), kCoherentCosine));
     });
 }
+
+TEST_CASE("the cone test gives the same answer over a packet's lanes and over the rays it is built from") {
+    // Lane 1 turned by `degrees` from the others, `live` rays.
+    const auto turned_by = [](float degrees, std::size_t live) {
+        const float radians = degrees * 3.14159265f / 180.0f;
+        std::vector<Ray> rays(live, Ray{{0, 0, 0}, {2.0f, 0.0f, 0.0f}, 0.0f, kInfinity});
+        rays[1].dir = {0.5f * std::cos(radians), 0.5f * std::sin(radians), 0.0f};
+        return rays;
+    };
+    for_each_packet_arch([&]<class Arch>() {
+        for (const float degrees : {0.0f, 20.0f, 25.0f, 26.0f, 40.0f, 90.0f, 180.0f})
+            for (const std::size_t live : {std::size_t(2), RayPacket<Arch>::width}) {
+                CAPTURE(degrees);
+                CAPTURE(live);
+                const std::vector<Ray> rays = turned_by(degrees, live);
+                const bool within = bvh::directions_within_cone(std::span<const Ray>(rays), kCoherentCosine);
+                CHECK(within ==
+                      bvh::directions_within_cone(RayPacket<Arch>(std::span<const Ray>(rays)), kCoherentCosine));
+                CHECK(within == (degrees <= 25.0f));  // the cone's half-angle: acos(0.9), 25.8 degrees
+                CHECK(bvh::lanes_walk_alone(rays, kIncoherentAloneMinBlocks) == !within);
+                CHECK_FALSE(bvh::lanes_walk_alone(rays, kIncoherentAloneMinBlocks - 1));
+            }
+    });
+}

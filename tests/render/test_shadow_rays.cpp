@@ -14,6 +14,7 @@
 #include "render_test_scenes.h"
 #include "scenes/builtin.h"
 #include "support/packet_agreement.h"
+#include "support/random_scenes.h"
 
 using namespace trident;
 using trident::testing::add_floor_quad;
@@ -194,5 +195,55 @@ TEST_CASE("occlusion agrees with closest hit on incoherent rays, for every struc
         }
         CHECK(occluded_count > 0);                    // the test sees both answers
         CHECK(occluded_count < diffuse.rays.size());
+    }
+}
+
+TEST_CASE("incoherent packets over a large wide BVH go from the stream as single rays, with the single rays' hits") {
+    // A tree of at least kIncoherentAloneMinBlocks blocks, and rays in every direction from random
+    // points inside it, some stopping short.
+    const Mesh soup = testing::random_soup(5 * kIncoherentAloneMinBlocks, 61, 0.02f);
+    std::vector<Ray> rays = testing::random_rays(soup.bounds(), 3000, 62);
+    std::mt19937 rng(63);
+    std::uniform_real_distribution<float> end(0.0f, 1.0f);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        rays[i].origin = rays[i].origin * 0.3f;  // inside the soup, so rays start among triangles
+        if (i % 4 == 0) rays[i].tmax = end(rng);
+    }
+    const AnyAccel accel = AnyAccel::build(AccelKind::bvh, soup);
+    accel.visit([&](const auto& structure) {
+        if constexpr (requires { structure.packet_walks_lanes_alone(std::span<const Ray>(rays)); }) {
+            REQUIRE(structure.blocks().size() >= kIncoherentAloneMinBlocks);
+            CHECK(structure.packet_walks_lanes_alone(std::span<const Ray>(rays).first(8)));
+            // Rays within the cone walk as a packet.
+            const std::vector<Ray> parallel(8, Ray{{0, 0, 0}, {1.0f, 0.1f, 0.0f}});
+            CHECK_FALSE(structure.packet_walks_lanes_alone(std::span<const Ray>(parallel)));
+        } else {
+            FAIL("bvh is not the wide BVH");
+        }
+    });
+    std::vector<Hit> scalar_hits(rays.size());
+    std::vector<std::uint8_t> scalar_occluded(rays.size());
+    intersect_stream(accel, rays, scalar_hits, {});
+    occlude_stream(accel, rays, scalar_occluded, {});
+    std::size_t hit_count = 0;
+    for (const Hit& hit : scalar_hits) hit_count += hit.is_hit();
+    CHECK(hit_count > rays.size() / 4);  // the test sees both answers
+    CHECK(hit_count < rays.size());
+    for (SimdWidth width : runnable_widths()) {
+        for (PacketGrouping grouping : {PacketGrouping::in_order, PacketGrouping::by_octant}) {
+            CAPTURE(to_string(width));
+            CAPTURE(to_string(grouping));
+            std::vector<Hit> hits(rays.size());
+            std::vector<std::uint8_t> occluded(rays.size());
+            intersect_stream(accel, rays, hits, {width, grouping});
+            occlude_stream(accel, rays, occluded, {width, grouping});
+            std::size_t hits_differ = 0, occlusion_differs = 0;
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+                hits_differ += !testing::same_bits(hits[i], scalar_hits[i]);
+                occlusion_differs += occluded[i] != scalar_occluded[i];
+            }
+            CHECK(hits_differ == 0);
+            CHECK(occlusion_differs == 0);
+        }
     }
 }
