@@ -59,11 +59,17 @@ inline bool directions_within_cone(std::span<const Ray> rays, float cos_half_ang
     return true;
 }
 
+/// Whether an incoherent packet walks every lane alone from the root of a tree of `tree_blocks`
+/// blocks (else it goes ray by ray only where its lanes part).
+inline bool incoherent_lanes_alone_from_root(std::size_t tree_blocks) {
+    return tree_blocks >= kIncoherentAloneMinBlocks;
+}
+
 /// Whether a packet of `rays` (at most one packet's width) walks every lane alone from the root
 /// of a tree of `tree_blocks` blocks under the structure's own switch: the packet of them would
 /// be built only to be taken apart again.
 inline bool lanes_walk_alone(std::span<const Ray> rays, std::size_t tree_blocks) {
-    return tree_blocks >= kIncoherentAloneMinBlocks && !directions_within_cone(rays, kCoherentCosine);
+    return incoherent_lanes_alone_from_root(tree_blocks) && !directions_within_cone(rays, kCoherentCosine);
 }
 
 }  // namespace bvh

@@ -133,7 +133,7 @@ template <class Arch>
 bvh::PacketSwitch wide_packet_switch(const RayPacket<Arch>& rays, int single_ray_lanes, std::size_t tree_blocks) {
     if (single_ray_lanes != kDefaultSingleRayLanes) return {single_ray_lanes, 0.0f};
     if (bvh::directions_within_cone(rays, kCoherentCosine)) return {kWideSingleRayLanes, 0.0f};
-    if (tree_blocks >= kIncoherentAloneMinBlocks)
+    if (bvh::incoherent_lanes_alone_from_root(tree_blocks))
         return {int(RayPacket<Arch>::width), 0.0f, RayCoherence::incoherent};
     return {kWideSingleRayLanes, kIncoherentMinLaneUse, RayCoherence::incoherent};
 }

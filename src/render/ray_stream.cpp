@@ -15,23 +15,11 @@ namespace {
 template <bool AnyHit>
 using Result = std::conditional_t<AnyHit, std::uint8_t, Hit>;
 
-template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Structure>
-void trace_single(const Structure& structure, std::span<const Ray> rays, std::span<Result<AnyHit>> out,
-                  RayCoherence coherence) {
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-        NoCounters counters;
-        if constexpr (AnyHit)
-            out[i] = is_traced(rays[i]) && structure.template occluded<Test, Slabs>(rays[i], counters);
-        else
-            out[i] = is_traced(rays[i]) ? intersect_hinted<Test, Slabs>(structure, rays[i], counters, coherence) : Hit{};
-    }
-}
-
-/// The rays one at a time, in the widest kernel file the CPU (and the cap) allow in the portable
-/// build, else in the baseline's.
+/// The rays one at a time (untraceable ones get no hit, not occluded), in the widest kernel file
+/// the CPU (and the cap) allow in the portable build, else in the baseline's.
 template <bool AnyHit, class Structure>
-void trace_singly(const Structure& structure, std::span<const Ray> rays, std::span<Result<AnyHit>> out,
-                  TriangleTest test, SlabTest slabs, RayCoherence coherence) {
+void trace_single_rays(const Structure& structure, std::span<const Ray> rays, std::span<Result<AnyHit>> out,
+                       TriangleTest test, SlabTest slabs, RayCoherence coherence) {
     const bool in_kernel_file = in_widest_kernel_file([&]<SimdWidth File>() {
         using FileKernels = SingleRayKernels<Structure, File>;
         if constexpr (AnyHit)
@@ -41,7 +29,16 @@ void trace_singly(const Structure& structure, std::span<const Ray> rays, std::sp
     });
     if (in_kernel_file) return;
     with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
-        trace_single<AnyHit, decltype(test_tag)::value, decltype(slabs_tag)::value>(structure, rays, out, coherence);
+        constexpr TriangleTest kTest = decltype(test_tag)::value;
+        constexpr SlabTest kSlabs = decltype(slabs_tag)::value;
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            NoCounters counters;
+            if constexpr (AnyHit)
+                out[i] = is_traced(rays[i]) && structure.template occluded<kTest, kSlabs>(rays[i], counters);
+            else
+                out[i] = is_traced(rays[i]) ? intersect_hinted<kTest, kSlabs>(structure, rays[i], counters, coherence)
+                                            : Hit{};
+        }
     });
 }
 
@@ -63,10 +60,12 @@ void trace_packet(const Structure& structure, std::span<const Ray> rays, std::sp
     if constexpr (requires { structure.packet_walks_lanes_alone(packet); })
         alone = variant.single_ray_lanes == kDefaultSingleRayLanes && structure.packet_walks_lanes_alone(packet);
     if (alone) {
-        trace_singly<AnyHit>(structure, packet, std::span(lane_results.data(), index.size()), variant.test,
+        trace_single_rays<AnyHit>(structure, packet, std::span(lane_results.data(), index.size()), variant.test,
                              variant.slabs, RayCoherence::incoherent);
     } else if constexpr (AnyHit) {
         const std::uint32_t bits = Kernels::occlude_rays(structure, packet, variant);
+        // Straight to `out`: filling lane_results' bytes up to a run-time count, GCC 12 warns of an
+        // overflow that cannot happen (-Wstringop-overflow).
         for (std::size_t k = 0; k < index.size(); ++k) out[index[k]] = (bits >> k) & 1u;
         return;
     } else {
@@ -91,7 +90,7 @@ void trace_stream(const AnyAccel& accel, std::span<const Ray> rays, std::span<Re
     // Single rays take the variant as template arguments; the packet kernels take it at run time.
     if (traversal.width == SimdWidth::scalar) {
         accel.visit([&](const auto& structure) {
-            trace_singly<AnyHit>(structure, rays, out, test, traversal.slabs, traversal.coherence);
+            trace_single_rays<AnyHit>(structure, rays, out, test, traversal.slabs, traversal.coherence);
         });
         return;
     }
