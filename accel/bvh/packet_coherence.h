@@ -47,16 +47,23 @@ bool directions_within_cone(const RayPacket<Arch>& rays, float cos_half_angle) {
     return !xsimd::any(rays.active & outside_cone(rays.dir, lane_axis, bound_scale));
 }
 
-/// The same over rays held one by one (a packet's rays before it is built): the first is the axis.
-inline bool directions_within_cone(std::span<const Ray> rays, float cos_half_angle) {
-    if (rays.empty()) return true;
-    const Vec3f axis = rays.front().dir;
+/// The same over rays held one by one: the directions direction_of(0), ..., direction_of(count - 1)
+/// (a packet's rays before it is built, read where they lie); the first is the axis.
+template <class DirectionOf>
+bool directions_within_cone(std::size_t count, DirectionOf&& direction_of, float cos_half_angle) {
+    if (count == 0) return true;
+    const Vec3f axis = direction_of(0);
     const float axis_length2 = dot(axis, axis);
     if (!(axis_length2 > 0.0f)) return false;
     const float bound_scale = cos_half_angle * cos_half_angle * axis_length2;
-    for (const Ray& ray : rays)
-        if (outside_cone(ray.dir, axis, bound_scale)) return false;
+    for (std::size_t k = 1; k < count; ++k)
+        if (outside_cone(direction_of(k), axis, bound_scale)) return false;
     return true;
+}
+
+/// The same over the rays of `rays`.
+inline bool directions_within_cone(std::span<const Ray> rays, float cos_half_angle) {
+    return directions_within_cone(rays.size(), [&](std::size_t k) { return rays[k].dir; }, cos_half_angle);
 }
 
 /// Whether an incoherent packet walks every lane alone from the root of a tree of `tree_blocks`
@@ -65,11 +72,12 @@ inline bool incoherent_lanes_alone_from_root(std::size_t tree_blocks) {
     return tree_blocks >= kIncoherentAloneMinBlocks;
 }
 
-/// Whether a packet of `rays` (at most one packet's width) walks every lane alone from the root
-/// of a tree of `tree_blocks` blocks under the structure's own switch: the packet of them would
-/// be built only to be taken apart again.
-inline bool lanes_walk_alone(std::span<const Ray> rays, std::size_t tree_blocks) {
-    return incoherent_lanes_alone_from_root(tree_blocks) && !directions_within_cone(rays, kCoherentCosine);
+/// Whether the packet of the rays rays[index[0]], rays[index[1]], ... (at most one packet's
+/// width) walks every lane alone from the root of a tree of `tree_blocks` blocks under the
+/// structure's own switch: the packet would be built only to be taken apart again.
+inline bool lanes_walk_alone(std::span<const Ray> rays, std::span<const std::size_t> index, std::size_t tree_blocks) {
+    return incoherent_lanes_alone_from_root(tree_blocks) &&
+           !directions_within_cone(index.size(), [&](std::size_t k) { return rays[index[k]].dir; }, kCoherentCosine);
 }
 
 }  // namespace bvh

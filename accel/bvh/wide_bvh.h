@@ -105,8 +105,8 @@ public:
     /// from the root under the structure's own switch (wide_packet_switch): a caller still holding
     /// the rays one by one then traces them as incoherent single rays, the walks the packet's
     /// lanes would take, without building the packet and taking it apart (ray_stream.cpp).
-    bool packet_walks_lanes_alone(std::span<const Ray> rays) const {
-        return bvh::lanes_walk_alone(rays, blocks_.size());
+    bool packet_walks_lanes_alone(std::span<const Ray> rays, std::span<const std::size_t> index) const {
+        return bvh::lanes_walk_alone(rays, index, blocks_.size());
     }
 
     const AccelStats& stats() const { return stats_; }

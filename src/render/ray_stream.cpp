@@ -4,6 +4,7 @@
 #include <array>
 #include <stdexcept>
 #include <type_traits>
+#include <vector>
 
 #include "core/traversal_variant.h"
 #include "render/render_kernels.h"
@@ -42,46 +43,68 @@ void trace_single_rays(const Structure& structure, std::span<const Ray> rays, st
     });
 }
 
-/// One packet of the rays at `index` (at most the width's lanes), its results written to `out`,
-/// traced in the kernel file of width `File`. A packet whose lanes would all walk alone from the
-/// root (the wide BVH's incoherent packets over a large tree) is traced as the single rays it
-/// would become, without building it: its assembly, the lanes' conversion back and the hits'
-/// scatter cost Bunny's diffuse rays 9% over the single rays' time (perf,
-/// bench/experiments/bvh-traversal.md).
+/// The packet of the rays at `index` (at most the width's lanes) traced by the packet walk in the
+/// kernel file of width `File`, its results written to `out`.
 template <bool AnyHit, SimdWidth Width, SimdWidth File, class Structure>
-void trace_packet(const Structure& structure, std::span<const Ray> rays, std::span<const std::size_t> index,
+void trace_packet(const Structure& structure, std::span<const Ray> packet, std::span<const std::size_t> index,
                   std::span<Result<AnyHit>> out, PacketVariant variant) {
     using Kernels = RenderKernels<Structure, Width, File>;
-    std::array<Ray, Kernels::kLanes> lane_rays;
-    for (std::size_t k = 0; k < index.size(); ++k) lane_rays[k] = rays[index[k]];
-    const std::span<const Ray> packet(lane_rays.data(), index.size());
-    std::array<Result<AnyHit>, Kernels::kLanes> lane_results;
-    bool alone = false;
-    if constexpr (requires { structure.packet_walks_lanes_alone(packet); })
-        alone = variant.single_ray_lanes == kDefaultSingleRayLanes && structure.packet_walks_lanes_alone(packet);
-    if (alone) {
-        trace_single_rays<AnyHit>(structure, packet, std::span(lane_results.data(), index.size()), variant.test,
-                             variant.slabs, RayCoherence::incoherent);
-    } else if constexpr (AnyHit) {
+    if constexpr (AnyHit) {
         const std::uint32_t bits = Kernels::occlude_rays(structure, packet, variant);
-        // Straight to `out`: filling lane_results' bytes up to a run-time count, GCC 12 warns of an
-        // overflow that cannot happen (-Wstringop-overflow).
         for (std::size_t k = 0; k < index.size(); ++k) out[index[k]] = (bits >> k) & 1u;
-        return;
     } else {
-        Kernels::intersect_rays(structure, packet, std::span(lane_results.data(), index.size()), variant);
+        std::array<Hit, Kernels::kLanes> lane_hits;
+        Kernels::intersect_rays(structure, packet, std::span(lane_hits.data(), index.size()), variant);
+        for (std::size_t k = 0; k < index.size(); ++k) out[index[k]] = lane_hits[k];
     }
-    for (std::size_t k = 0; k < index.size(); ++k) out[index[k]] = lane_results[k];
 }
 
+/// The rays cut into packets as `grouping` says, each traced by the packet walk, except those
+/// whose lanes would all walk alone from the root (the wide BVH's incoherent packets over a large
+/// tree): these are only marked, from the rays where they lie, and traced afterwards as the
+/// single rays they would become, run by run in list order. Building such a packet, taking it
+/// apart and scattering its hits cost Bunny's diffuse rays 9% over the single rays' time, and
+/// gathering its rays to ask another 4% (perf, bench/experiments/bvh-traversal.md). Every ray's
+/// result is the same in any order.
 template <bool AnyHit, SimdWidth Width, SimdWidth File, class Structure>
 void trace_packets(const Structure& structure, std::span<const Ray> rays, std::span<Result<AnyHit>> out,
                    PacketGrouping grouping, PacketVariant variant) {
     for (std::size_t i = 0; i < rays.size(); ++i)
         if (!is_traced(rays[i])) out[i] = Result<AnyHit>{};
+    constexpr bool kMayGoAlone = requires(std::span<const std::size_t> index) {
+        structure.packet_walks_lanes_alone(rays, index);
+    };
+    const bool may_go_alone = kMayGoAlone && variant.single_ray_lanes == kDefaultSingleRayLanes;
+    // 1 where a ray's packet goes alone. Untraced rays between such rays join their run: their
+    // results are already written, and the single-ray loop skips them.
+    thread_local std::vector<std::uint8_t> alone;
+    if (may_go_alone) alone.assign(rays.size(), 0);
+    bool any_alone = false;
     for_each_stream_packet(rays, lane_count(Width), grouping, [&](std::span<const std::size_t> index) {
-        trace_packet<AnyHit, Width, File>(structure, rays, index, out, variant);
+        if constexpr (kMayGoAlone) {
+            if (may_go_alone && structure.packet_walks_lanes_alone(rays, index)) {
+                for (const std::size_t i : index) alone[i] = 1;
+                any_alone = true;
+                return;
+            }
+        }
+        std::array<Ray, lane_count(Width)> lane_rays;
+        for (std::size_t k = 0; k < index.size(); ++k) lane_rays[k] = rays[index[k]];
+        const std::span<const Ray> packet(lane_rays.data(), index.size());
+        trace_packet<AnyHit, Width, File>(structure, packet, index, out, variant);
     });
+    if (!any_alone) return;
+    for (std::size_t i = 0; i < rays.size();) {
+        if (!alone[i]) {
+            ++i;
+            continue;
+        }
+        std::size_t end = i + 1;
+        while (end < rays.size() && (alone[end] || !is_traced(rays[end]))) ++end;
+        trace_single_rays<AnyHit>(structure, rays.subspan(i, end - i), out.subspan(i, end - i), variant.test,
+                                  variant.slabs, RayCoherence::incoherent);
+        i = end;
+    }
 }
 
 template <bool AnyHit>

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numeric>
 #include <random>
 #include <span>
 #include <vector>
@@ -503,8 +504,10 @@ TEST_CASE("the cone test gives the same answer over a packet's lanes and over th
                 CHECK(within ==
                       bvh::directions_within_cone(RayPacket<Arch>(std::span<const Ray>(rays)), kCoherentCosine));
                 CHECK(within == (degrees <= 25.0f));  // the cone's half-angle: acos(0.9), 25.8 degrees
-                CHECK(bvh::lanes_walk_alone(rays, kIncoherentAloneMinBlocks) == !within);
-                CHECK_FALSE(bvh::lanes_walk_alone(rays, kIncoherentAloneMinBlocks - 1));
+                std::vector<std::size_t> reversed(live);  // the packet's rays read through an index
+                std::iota(reversed.rbegin(), reversed.rend(), std::size_t(0));
+                CHECK(bvh::lanes_walk_alone(rays, reversed, kIncoherentAloneMinBlocks) == !within);
+                CHECK_FALSE(bvh::lanes_walk_alone(rays, reversed, kIncoherentAloneMinBlocks - 1));
             }
     });
 }

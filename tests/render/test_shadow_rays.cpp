@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <random>
 #include <string>
 
@@ -205,18 +206,26 @@ TEST_CASE("incoherent packets over a large wide BVH go from the stream as single
     std::vector<Ray> rays = testing::random_rays(soup.bounds(), 3000, 62);
     std::mt19937 rng(63);
     std::uniform_real_distribution<float> end(0.0f, 1.0f);
+    // Rays 1000-1399 nearly parallel: their packets walk the tree as packets between the packets
+    // that go alone; every 7th ray not traced (tmax < tmin), inside the runs of single rays too.
+    std::uniform_real_distribution<float> tilt(0.0f, 0.05f);
     for (std::size_t i = 0; i < rays.size(); ++i) {
         rays[i].origin = rays[i].origin * 0.3f;  // inside the soup, so rays start among triangles
         if (i % 4 == 0) rays[i].tmax = end(rng);
+        if (i >= 1000 && i < 1400) rays[i].dir = {1.0f, 0.1f + tilt(rng), tilt(rng)};
+        if (i % 7 == 3) rays[i].tmax = -1.0f;
     }
     const AnyAccel accel = AnyAccel::build(AccelKind::bvh, soup);
     accel.visit([&](const auto& structure) {
-        if constexpr (requires { structure.packet_walks_lanes_alone(std::span<const Ray>(rays)); }) {
+        const auto eight_from = [](std::size_t first) {
+            std::vector<std::size_t> index(8);
+            std::iota(index.begin(), index.end(), first);
+            return index;
+        };
+        if constexpr (requires { structure.packet_walks_lanes_alone(rays, std::span<const std::size_t>()); }) {
             REQUIRE(structure.blocks().size() >= kIncoherentAloneMinBlocks);
-            CHECK(structure.packet_walks_lanes_alone(std::span<const Ray>(rays).first(8)));
-            // Rays within the cone walk as a packet.
-            const std::vector<Ray> parallel(8, Ray{{0, 0, 0}, {1.0f, 0.1f, 0.0f}});
-            CHECK_FALSE(structure.packet_walks_lanes_alone(std::span<const Ray>(parallel)));
+            CHECK(structure.packet_walks_lanes_alone(rays, eight_from(0)));
+            CHECK_FALSE(structure.packet_walks_lanes_alone(rays, eight_from(1000)));  // within the cone
         } else {
             FAIL("bvh is not the wide BVH");
         }
