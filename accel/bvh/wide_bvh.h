@@ -101,10 +101,10 @@ public:
     typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters,
                                             int single_ray_lanes = kDefaultSingleRayLanes) const;
 
-    /// Whether a packet of `rays` (traced ones, at most a packet's width) walks every lane alone
-    /// from the root under the structure's own switch (wide_packet_switch): a caller still holding
-    /// the rays one by one then traces them as incoherent single rays, the walks the packet's
-    /// lanes would take, without building the packet and taking it apart (ray_stream.cpp).
+    /// Whether the packet of the rays rays[index[0]], rays[index[1]], ... (traced ones, at most a
+    /// packet's width) walks every lane alone from the root under the structure's own switch
+    /// (wide_packet_switch): a caller that has not built the packet then traces those rays as
+    /// incoherent single rays, the walks its lanes would take (ray_stream.cpp).
     bool packet_walks_lanes_alone(std::span<const Ray> rays, std::span<const std::size_t> index) const {
         return bvh::lanes_walk_alone(rays, index, blocks_.size());
     }

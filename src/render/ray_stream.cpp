@@ -43,12 +43,15 @@ void trace_single_rays(const Structure& structure, std::span<const Ray> rays, st
     });
 }
 
-/// The packet of the rays at `index` (at most the width's lanes) traced by the packet walk in the
-/// kernel file of width `File`, its results written to `out`.
+/// The packet of the rays at `index` (at most the width's lanes) gathered and traced by the packet
+/// walk in the kernel file of width `File`, its results written to out[index[k]].
 template <bool AnyHit, SimdWidth Width, SimdWidth File, class Structure>
-void trace_packet(const Structure& structure, std::span<const Ray> packet, std::span<const std::size_t> index,
-                  std::span<Result<AnyHit>> out, PacketVariant variant) {
+void walk_packet(const Structure& structure, std::span<const Ray> rays, std::span<const std::size_t> index,
+                 std::span<Result<AnyHit>> out, PacketVariant variant) {
     using Kernels = RenderKernels<Structure, Width, File>;
+    std::array<Ray, Kernels::kLanes> lane_rays;
+    for (std::size_t k = 0; k < index.size(); ++k) lane_rays[k] = rays[index[k]];
+    const std::span<const Ray> packet(lane_rays.data(), index.size());
     if constexpr (AnyHit) {
         const std::uint32_t bits = Kernels::occlude_rays(structure, packet, variant);
         for (std::size_t k = 0; k < index.size(); ++k) out[index[k]] = (bits >> k) & 1u;
@@ -76,7 +79,8 @@ void trace_packets(const Structure& structure, std::span<const Ray> rays, std::s
     };
     const bool may_go_alone = kMayGoAlone && variant.single_ray_lanes == kDefaultSingleRayLanes;
     // 1 where a ray's packet goes alone. Untraced rays between such rays join their run: their
-    // results are already written, and the single-ray loop skips them.
+    // results are already written, and the single-ray loop skips them. One buffer per thread,
+    // reused from chunk to chunk of the stream rather than allocated for each.
     thread_local std::vector<std::uint8_t> alone;
     if (may_go_alone) alone.assign(rays.size(), 0);
     bool any_alone = false;
@@ -88,10 +92,7 @@ void trace_packets(const Structure& structure, std::span<const Ray> rays, std::s
                 return;
             }
         }
-        std::array<Ray, lane_count(Width)> lane_rays;
-        for (std::size_t k = 0; k < index.size(); ++k) lane_rays[k] = rays[index[k]];
-        const std::span<const Ray> packet(lane_rays.data(), index.size());
-        trace_packet<AnyHit, Width, File>(structure, packet, index, out, variant);
+        walk_packet<AnyHit, Width, File>(structure, rays, index, out, variant);
     });
     if (!any_alone) return;
     for (std::size_t i = 0; i < rays.size();) {
