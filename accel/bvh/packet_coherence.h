@@ -61,11 +61,6 @@ bool directions_within_cone(std::size_t count, DirectionOf&& direction_of, float
     return true;
 }
 
-/// The same over the rays of `rays`.
-inline bool directions_within_cone(std::span<const Ray> rays, float cos_half_angle) {
-    return directions_within_cone(rays.size(), [&](std::size_t k) { return rays[k].dir; }, cos_half_angle);
-}
-
 /// Whether an incoherent packet walks every lane alone from the root of a tree of `tree_blocks`
 /// blocks (else it goes ray by ray only where its lanes part).
 inline bool incoherent_lanes_alone_from_root(std::size_t tree_blocks) {

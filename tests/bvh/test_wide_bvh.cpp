@@ -500,7 +500,8 @@ TEST_CASE("the cone test gives the same answer over a packet's lanes and over th
                 CAPTURE(degrees);
                 CAPTURE(live);
                 const std::vector<Ray> rays = turned_by(degrees, live);
-                const bool within = bvh::directions_within_cone(std::span<const Ray>(rays), kCoherentCosine);
+                const bool within = bvh::directions_within_cone(
+                    rays.size(), [&](std::size_t k) { return rays[k].dir; }, kCoherentCosine);
                 CHECK(within ==
                       bvh::directions_within_cone(RayPacket<Arch>(std::span<const Ray>(rays)), kCoherentCosine));
                 CHECK(within == (degrees <= 25.0f));  // the cone's half-angle: acos(0.9), 25.8 degrees
