@@ -11,8 +11,10 @@
 // Spatial splits are looked for only where the best object split's children overlap by more than
 // kOverlapShare of the root's surface area (Stich et al.'s alpha), and the extra references a
 // subtree may add are bounded by its share of the budget, so the tree stays within
-// (1 + budget) references a triangle. Subtrees are built in parallel; every decision is made from
-// a node's own references, so the tree does not depend on the number of threads.
+// (1 + budget) references a triangle. Below the nodes where a spatial split may still be looked
+// for, the subtrees are the binned builder's (binned_sah_splitter.h). Subtrees are built in
+// parallel; every decision is made from a node's own references, so the tree does not depend on
+// the number of threads.
 #include "accel/bvh/bvh_node.h"
 #include "accel/bvh/bvh_options.h"
 #include "core/huge_page_array.h"
@@ -27,7 +29,8 @@ struct SpatialSplitTree {
 };
 
 /// Builds with oneTBB on the caller's threads. `options`: the SAH costs, max_leaf_size and
-/// spatial_split_budget; the bin counts are the builder's own.
+/// spatial_split_budget; the bin counts where spatial splits are looked for are the builder's own,
+/// below them the options' (the binned builder's).
 SpatialSplitTree build_with_spatial_splits(const Mesh& mesh, const BvhOptions& options);
 
 }  // namespace trident::bvh

@@ -31,10 +31,11 @@ public:
 
     TreeBuilder(Splitter& splitter, const BvhOptions& options) : splitter_(splitter), options_(options) {}
 
-    /// The flattened tree over `root` (no nodes for an empty range).
-    HugePageArray<BvhNode> build(const BuildRange& root) {
+    /// The flattened tree over `root` (no nodes for an empty range). `depth`: the root's depth in
+    /// a larger tree (the spatial split builder hands subtrees over), which the depth bound counts.
+    HugePageArray<BvhNode> build(const BuildRange& root, std::uint32_t depth = 0) {
         if (root.count() == 0) return {};
-        const std::unique_ptr<PendingNode> top = build_pending(root, 0);
+        const std::unique_ptr<PendingNode> top = build_pending(root, depth);
         HugePageArray<BvhNode> nodes(node_count(*top));
         std::vector<SubtreeCopy> copies;
         place(*top, 0, nodes, copies);

@@ -2,6 +2,7 @@
 // interval [tmin, tmax), and option validation.
 #include <doctest/doctest.h>
 
+#include <cstring>
 #include <stdexcept>
 
 #include "bvh_test_helpers.h"
@@ -149,6 +150,13 @@ TEST_CASE("spatial splits cut large triangles among small ones: more references,
     check_invariants(uncut, mesh);
     CHECK(uncut.stats().references == mesh.triangle_count());
     CHECK(cut.stats().sah_cost < 0.95 * uncut.stats().sah_cost);
+    // Where no node may take a spatial split, the builder hands the whole tree to the binned one:
+    // the binned build's tree, node for node and in the same leaf order.
+    REQUIRE(uncut.nodes().size() == objects.nodes().size());
+    CHECK(std::memcmp(uncut.nodes().data(), objects.nodes().data(), objects.nodes().size_bytes()) == 0);
+    REQUIRE(uncut.leaf_triangle_ids().size() == objects.leaf_triangle_ids().size());
+    CHECK(std::memcmp(uncut.leaf_triangle_ids().data(), objects.leaf_triangle_ids().data(),
+                      objects.leaf_triangle_ids().size_bytes()) == 0);
 }
 
 TEST_CASE("invalid options are rejected with a message naming the field") {
