@@ -13,7 +13,8 @@ std::string AccelStats::to_line() const {
         double(bytes) / (1024.0 * 1024.0), bytes_per_triangle()) +
            (mean_children > 0.0
                 ? fmt::format(", {:.2f} children/node, blocks {:.1f}% full", mean_children, 100.0 * block_fill)
-                : std::string());
+                : std::string()) +
+           (builder.empty() ? std::string() : ", builder " + builder);
 }
 
 }  // namespace trident

@@ -25,6 +25,9 @@ struct AccelStats {
     // blocks' lanes holding a triangle of their own rather than padding.
     double mean_children = 0.0;
     double block_fill = 0.0;
+    // The builder that made the tree where a structure has several (the BVHs: to_string(BvhBuilder),
+    // automatic resolved), empty elsewhere.
+    std::string builder;
 
     double references_per_triangle() const { return triangles ? double(references) / double(triangles) : 0.0; }
     double bytes_per_triangle() const { return triangles ? double(bytes) / double(triangles) : 0.0; }

@@ -35,6 +35,7 @@ std::span<const Column> row_columns() {
         {"rays", [](const BenchRow& r) -> Cell { return r.ray_kind; }},
         {"triangle_test", [](const BenchRow& r) { return text_cell(r.triangle_test); }},
         {"slabs", [](const BenchRow& r) { return text_cell(r.slabs); }},
+        {"builder", [](const BenchRow& r) { return text_cell(r.builder); }},
         {"threads", [](const BenchRow& r) -> Cell { return std::int64_t(r.threads); }},
         {"width", [](const BenchRow& r) -> Cell { return std::int64_t(r.width); }},
         {"height", [](const BenchRow& r) -> Cell { return std::int64_t(r.height); }},

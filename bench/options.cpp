@@ -25,7 +25,7 @@ struct Arguments {
     std::string reference = "auto";
     long long width = 1920, height = 1080, repeats = kRecommendedRepeats;
     int bvh_width = BvhOptions{}.width;
-    std::string bvh_builder = "binned";
+    std::string bvh_builder = "auto";
     bool quiet = false, scaling = false, vs_single = false;
 };
 
@@ -276,9 +276,7 @@ BenchOptions resolve(const Arguments& args, const CLI::App& app) {
     options.vs_single = args.vs_single;
     options.paired = resolve_paired(args.paired, options.ray_kinds);
     options.bvh_width = args.bvh_width;
-    options.bvh_builder = args.bvh_builder == "spatial" ? BvhBuilder::spatial_sah
-                          : args.bvh_builder == "sweep" ? BvhBuilder::sweep_sah
-                                                        : BvhBuilder::binned_sah;
+    options.bvh_builder = parse_bvh_builder(args.bvh_builder);
     return options;
 }
 
@@ -296,9 +294,10 @@ void add_options(CLI::App& app, Arguments& args) {
                    "children per node of the bvh rows' tree: 4, 8 or 16 (default: 16 where AVX2 runs, else 8)")
         ->check(CLI::IsMember({4, 8, 16}));
     app.add_option("--bvh-builder", args.bvh_builder,
-                   "builder of the bvh and bvh2 rows' trees: binned (default), sweep, or spatial (spatial splits, "
-                   "the higher-quality build)")
-        ->check(CLI::IsMember({"binned", "sweep", "spatial"}));
+                   "builder of the bvh and bvh2 rows' trees: auto (default: spatial splits where the mesh has "
+                   "large triangles, binned elsewhere; bvh2 always binned), binned, sweep, or spatial (spatial "
+                   "splits, the higher-quality build)")
+        ->check(CLI::IsMember({"auto", "binned", "sweep", "spatial"}));
     app.add_option("--simd", args.simd,
                    "traversals, comma separated: scalar,simd4,simd8,simd16 or auto (default scalar)")
         ->delimiter(',');

@@ -30,6 +30,7 @@ struct BenchRow {
     std::string structure;  // "bvh", "kdtree", "octree", "brute" or "embree"
     std::string traversal;  // ours: scalar / simd4 / simd8 / simd16; Embree: rtcIntersect1 / 4 / 8 / 16, stream8x8
     std::string triangle_test, slabs;  // ours: watertight / moller_trumbore, robust / fast; Embree: empty
+    std::string builder;               // the BVHs': what built the tree (AccelStats::builder); empty elsewhere
     std::string ray_kind = "primary";  // the ray kind timed: primary, shadow or diffuse (bench/ray_sets.h)
     std::size_t ray_count = 0;         // rays traced per render when not W x H (secondary rays)
     int threads = 0;

@@ -20,6 +20,9 @@
 #              rays' any hit against closest hit (--paired closest).
 #   spatial    the wide BVH with spatial splits (--bvh-builder spatial) and Embree's high-quality build,
 #              one thread, the study's seven scenes: their build times.
+#   binned     the wide and the binary BVH without spatial splits (--bvh-builder binned), Embree beside,
+#              one thread: the build times of the binned build, which the default (auto) gives only
+#              the scenes without large triangles.
 #   portable   the portable build (build-portable/, what `run.sh test` and users get) against this
 #              native one on the same rays, in pairs seconds apart (bench/compare_builds.py): the
 #              built-in scenes, every structure, width and ray kind, one thread.
@@ -113,6 +116,11 @@ step ray_kinds $bench --scenes $scenes "${only[@]}" --rays primary,shadow,diffus
 step spatial $bench --scenes $scenes "${only[@]}" --accel bvh --bvh-builder spatial --rays primary --simd scalar \
     --threads 1 --embree 1 --width 320 --height 180 "${repeats[@]}" --quiet --json $out/spatial.json \
     --csv $out/spatial.csv
+# Both BVHs without spatial splits (--bvh-builder binned): the build-time targets of the binned build
+# (issues 3 and 31), whatever the default picks per scene.
+step binned $bench --scenes $scenes "${only[@]}" --accel bvh,bvh2 --bvh-builder binned --rays primary --simd scalar \
+    --threads 1 --embree 1 --width 320 --height 180 "${repeats[@]}" --quiet --json $out/binned.json \
+    --csv $out/binned.csv
 step portable $python bench/compare_builds.py build-portable/trident-bench $bench --rounds $portable_rounds \
     --each-scene $portable_scenes --each-accel bvh,bvh2,kdtree,octree --json $out/portable.json \
     --markdown $out/portable.md -- --simd scalar,simd4,simd8,simd16 --rays primary,shadow,diffuse --threads 1 \
@@ -155,7 +163,7 @@ for chart in chart_paths:
     charts.append({"title": title + ("" if kind == "charts" else ", " + kind), "path": path})
 run = {"commit": commit, "dirty": dirty != "0", "date": date, "steps": steps,
        "runs": [{"name": "primary", "json": "primary.json"}, {"name": "ray_kinds", "json": "ray_kinds.json"},
-                {"name": "spatial", "json": "spatial.json"}],
+                {"name": "spatial", "json": "spatial.json"}, {"name": "binned", "json": "binned.json"}],
        "charts": charts}
 if os.path.exists(os.path.join(os.path.dirname(manifest), "avx2.json")):
     run["runs"].append({"name": "avx2", "json": "avx2.json"})

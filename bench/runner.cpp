@@ -406,6 +406,7 @@ private:
         };
 
         BenchRow row = start_row(run, to_string(config.kind), to_string(traversal));
+        row.builder = accel.stats().builder;
         row.build_ms = build;
         const SimdWidth width = simd_width(traversal);
         // Diffuse rays are incoherent, as Embree's rtcIntersect1 takes them by default.
@@ -480,6 +481,7 @@ private:
                      const std::string& label) {
         const AccelStats& stats = accel.stats();
         BenchRow row = start_row(run, to_string(config.kind), to_string(traversal));
+        row.builder = stats.builder;
         row.triangle_test = to_string(test);
         row.slabs = to_string(slabs);
         // The default variant keeps the plain labels (and hit-dump file names).

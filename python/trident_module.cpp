@@ -251,9 +251,10 @@ Keyword<Options> choice(const char* name, Enum Options::*member, std::vector<std
 }
 
 std::vector<Keyword<BvhOptions>> bvh_keywords() {
+    std::vector<std::pair<std::string, BvhBuilder>> builders;
+    for (const BvhBuilderName& known : kBvhBuilderNames) builders.emplace_back(known.name, known.builder);
     return {
-        choice("builder", &BvhOptions::builder,
-               {{"binned", BvhBuilder::binned_sah}, {"sweep", BvhBuilder::sweep_sah}, {"spatial", BvhBuilder::spatial_sah}}),
+        choice("builder", &BvhOptions::builder, std::move(builders)),
         keyword("bin_count", &BvhOptions::bin_count),
         keyword("large_node_bin_count", &BvhOptions::large_node_bin_count),
         keyword("all_axes", &BvhOptions::all_axes),
@@ -429,6 +430,7 @@ public:
         out["sah"] = s.sah_cost;
         out["bytes"] = s.bytes;
         out["bytes_per_triangle"] = s.bytes_per_triangle();
+        if (!s.builder.empty()) out["builder"] = s.builder;
         return out;
     }
 
@@ -653,7 +655,8 @@ single precision exactly as the benchmark and trident's renderer compute them.)"
 vertices (V, 3) and triangles (T, 3) of vertex indices; accel is "bvh" (the wide BVH), "bvh2"
 (the binary one), "kdtree", "octree" or "brute". Keywords set the structure's build options:
   bvh:    width (children per node: 2, 4, 8 or 16; default 16 where AVX2 runs, else 8),
-          builder ("binned", "sweep" or "spatial": with spatial splits, the higher-quality build), bin_count,
+          builder ("auto", the default: "spatial" where the mesh has large triangles, "binned" elsewhere,
+          bvh2 always "binned"; "binned", "sweep" or "spatial": with spatial splits), bin_count,
           large_node_bin_count, all_axes, traversal_cost, intersection_cost, max_leaf_size,
           spatial_split_budget (bvh2 takes the same)
   kdtree: intersection_cost, traversal_cost, empty_bonus, max_depth, depth_offset,
@@ -686,7 +689,7 @@ range is a ValueError, an index beyond the vertices an IndexError, an unknown op
 Odd crossings along a fixed direction; where two directions disagree, a third decides.)")
         .def_property_readonly("stats", &Scene::stats,
                                "the structure's statistics: build_ms, nodes, leaves, depth, sah, bytes, "
-                               "bytes_per_triangle and more")
+                               "bytes_per_triangle and more; the BVHs' builder (\"auto\" resolved)")
         .def_property_readonly("accel", &Scene::accel, "the structure's name")
         .def("__repr__", &Scene::repr);
 }

@@ -43,7 +43,7 @@ BinaryTree build_binary_tree(const Mesh& mesh, const BvhOptions& options) {
     }
     HugePageArray<PrimitiveRef> refs = make_primitive_refs(mesh);
     const BuildRange root = whole_range(refs);
-    if (options.builder == BvhBuilder::binned_sah) {
+    if (options.builder == BvhBuilder::binned_sah || options.builder == BvhBuilder::automatic) {
         BinnedSahSplitter splitter(refs, options);
         HugePageArray<BvhNode> nodes = TreeBuilder(splitter, options).build(root);
         return {std::move(nodes), gather_ids(refs.size(), [&](std::size_t i) { return refs[i].id; })};
@@ -60,6 +60,7 @@ Bvh Bvh::build(const Mesh& mesh, const BvhOptions& options) {
     bvh::BinaryTree tree = bvh::build_binary_tree(mesh, options);
     Bvh result;
     result.options_ = options;
+    if (options.builder == BvhBuilder::automatic) result.options_.builder = BvhBuilder::binned_sah;  // what was built
     result.nodes_ = std::move(tree.nodes);
     result.triangle_ids_ = std::move(tree.leaf_ids);
     result.triangles_.resize(result.triangle_ids_.size());
@@ -69,7 +70,7 @@ Bvh Bvh::build(const Mesh& mesh, const BvhOptions& options) {
     });
 
     const double build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    result.stats_ = bvh_stats(result.nodes_, mesh.triangle_count(), options);
+    result.stats_ = bvh_stats(result.nodes_, mesh.triangle_count(), result.options_);
     result.stats_.build_ms = build_ms;
     return result;
 }

@@ -39,7 +39,8 @@ struct BinaryTree {
 };
 
 /// Builds with oneTBB on the caller's threads; the result does not depend on their number.
-/// Throws as Bvh::build does.
+/// BvhBuilder::automatic builds binned, as the binary BVH, the study's, always is (WideBvh::build
+/// resolves it per mesh before calling this). Throws as Bvh::build does.
 BinaryTree build_binary_tree(const Mesh& mesh, const BvhOptions& options);
 
 }  // namespace bvh

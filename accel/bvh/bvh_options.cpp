@@ -20,11 +20,18 @@ int fastest_wide_width() {
 
 const char* to_string(BvhBuilder builder) {
     switch (builder) {
+        case BvhBuilder::automatic: return "auto";
         case BvhBuilder::binned_sah: return "binned_sah";
         case BvhBuilder::sweep_sah: return "sweep_sah";
         case BvhBuilder::spatial_sah: return "spatial_sah";
     }
     return "unknown";
+}
+
+BvhBuilder parse_bvh_builder(std::string_view name) {
+    for (const BvhBuilderName& known : kBvhBuilderNames)
+        if (name == known.name) return known.builder;
+    throw std::invalid_argument("unknown BVH builder '" + std::string(name) + "' (auto, binned, sweep, spatial)");
 }
 
 BvhOptions BvhOptions::study() {
@@ -38,7 +45,8 @@ BvhOptions BvhOptions::study() {
 
 void BvhOptions::validate() const {
     auto fail = [](const std::string& what) { throw std::invalid_argument("BvhOptions: " + what); };
-    if (builder != BvhBuilder::binned_sah && builder != BvhBuilder::sweep_sah && builder != BvhBuilder::spatial_sah)
+    if (builder != BvhBuilder::automatic && builder != BvhBuilder::binned_sah && builder != BvhBuilder::sweep_sah &&
+        builder != BvhBuilder::spatial_sah)
         fail("unknown builder");
     if (!(spatial_split_budget >= 0.0f && spatial_split_budget <= kMaxSpatialSplitBudget))
         fail("spatial_split_budget must be in [0, " + std::to_string(kMaxSpatialSplitBudget) + "]");

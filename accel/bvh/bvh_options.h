@@ -1,16 +1,31 @@
 #pragma once
 // How a BVH is built: which builder, the SAH cost model and its limits.
 #include <cstdint>
+#include <string_view>
 
 namespace trident {
 
 enum class BvhBuilder {
-    binned_sah,  // SAH at the boundaries of centroid bins (Wald 2007): the fast default
+    automatic,   // the default: the wide BVH picks spatial_sah or binned_sah per mesh (builder_choice.h),
+                 // the binary BVH (the study's) binned_sah
+    binned_sah,  // SAH at the boundaries of centroid bins (Wald 2007): the fast build
     sweep_sah,   // SAH at every plane between sorted centroids, all three axes: the quality reference
     spatial_sah,  // binned SAH with spatial splits (Stich et al. 2009): the higher-quality build
 };
 
 const char* to_string(BvhBuilder builder);
+
+/// The builders by their command-line and Python names: auto, binned, sweep, spatial.
+struct BvhBuilderName {
+    const char* name;
+    BvhBuilder builder;
+};
+inline constexpr BvhBuilderName kBvhBuilderNames[] = {{"auto", BvhBuilder::automatic},
+                                                      {"binned", BvhBuilder::binned_sah},
+                                                      {"sweep", BvhBuilder::sweep_sah},
+                                                      {"spatial", BvhBuilder::spatial_sah}};
+/// The builder of a name in kBvhBuilderNames; throws std::invalid_argument for any other.
+BvhBuilder parse_bvh_builder(std::string_view name);
 
 /// The wide BVH's fastest node width where this process runs (under TRIDENT_ISA's cap): 16
 /// children where its kernels have 8 or 16 lanes (AVX2, AVX-512), whose box tests take a 16-wide
@@ -25,7 +40,7 @@ struct BvhOptions {
     static constexpr std::uint32_t kLargeNodeMin = 1u << 14;
     static constexpr int kMaxLeafSizeLimit = 255;
 
-    BvhBuilder builder = BvhBuilder::binned_sah;
+    BvhBuilder builder = BvhBuilder::automatic;
     /// Bins per axis, in [kMinBins, kMaxBins]; small nodes use 4 + count / 4 when that is fewer.
     int bin_count = 32;
     /// Bins per axis for the few nodes of at least kLargeNodeMin triangles, in [bin_count,

@@ -22,6 +22,7 @@ double bvh_sah_cost(std::span<const BvhNode> nodes, float traversal_cost, float 
 AccelStats bvh_stats(std::span<const BvhNode> nodes, std::size_t triangle_count, const BvhOptions& options) {
     AccelStats stats;
     stats.structure = "bvh2";
+    stats.builder = to_string(options.builder);
     stats.triangles = triangle_count;
     stats.nodes = nodes.size();
     // Depth-first order puts both children after their parent, so one forward pass gives depths.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "accel/bvh/builder_choice.h"
 #include "accel/bvh/bvh.h"
 #include "accel/bvh/wide_collapse.h"
 
@@ -11,15 +12,30 @@ namespace trident {
 template <std::size_t Width, std::size_t BlockSize>
 WideBvh<Width, BlockSize> WideBvh<Width, BlockSize>::build(const Mesh& mesh, const BvhOptions& options) {
     const auto start = std::chrono::steady_clock::now();
-    BvhOptions binary_options = options;
-    binary_options.leaf_block_size = std::min(int(BlockSize), options.max_leaf_size);
-    const bvh::BinaryTree binary = bvh::build_binary_tree(mesh, binary_options);
-    bvh::WideArrays<Width, BlockSize> wide = bvh::collapse_to_wide<Width, BlockSize>(
-        binary.nodes, mesh, binary.leaf_ids, std::uint32_t(options.max_leaf_size));
+    const auto build_with = [&](BvhBuilder builder) {
+        BvhOptions binary_options = options;
+        binary_options.builder = builder;
+        binary_options.leaf_block_size = std::min(int(BlockSize), options.max_leaf_size);
+        const bvh::BinaryTree binary = bvh::build_binary_tree(mesh, binary_options);
+        return bvh::collapse_to_wide<Width, BlockSize>(binary.nodes, mesh, binary.leaf_ids,
+                                                       std::uint32_t(options.max_leaf_size));
+    };
+    BvhBuilder builder = options.builder;
+    if (builder == BvhBuilder::automatic)
+        builder = bvh::tries_spatial_splits(mesh) ? BvhBuilder::spatial_sah : BvhBuilder::binned_sah;
+    bvh::WideArrays<Width, BlockSize> wide = build_with(builder);
+    if (options.builder == BvhBuilder::automatic && builder == BvhBuilder::spatial_sah) {
+        bvh::WideArrays<Width, BlockSize> binned = build_with(BvhBuilder::binned_sah);
+        if (!bvh::spatial_tree_pays(wide.sah_cost, binned.sah_cost)) {
+            wide = std::move(binned);
+            builder = BvhBuilder::binned_sah;
+        }
+    }
     const double build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
     WideBvh result;
     result.options_ = options;
+    result.options_.builder = builder;  // what built the tree, automatic resolved
     result.nodes_ = std::move(wide.nodes);
     result.blocks_ = std::move(wide.blocks);
     AccelStats& stats = result.stats_;
@@ -37,6 +53,7 @@ WideBvh<Width, BlockSize> WideBvh<Width, BlockSize>::build(const Mesh& mesh, con
     stats.block_fill =
         result.blocks_.empty() ? 0.0 : double(stats.references) / double(result.blocks_.size() * BlockSize);
     stats.build_ms = build_ms;
+    stats.builder = to_string(builder);
     return result;
 }
 

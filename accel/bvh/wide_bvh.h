@@ -66,7 +66,9 @@ public:
     static constexpr std::size_t kStackSize = kBvhMaxDepth * (Width - 1) + 1;
 
     /// The binary build (Bvh::build's, same options) and the collapse, both with oneTBB on the
-    /// caller's threads; the result does not depend on their number. Throws as Bvh::build does.
+    /// caller's threads; the result does not depend on their number. BvhBuilder::automatic picks
+    /// the tree per mesh (builder_choice.h); options().builder then names the one built. Throws as
+    /// Bvh::build does.
     static WideBvh build(const Mesh& mesh, const BvhOptions& options = {});
 
     /// Incoherent rays (RayCoherence) get the lines of the children they stack asked into cache.

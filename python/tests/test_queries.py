@@ -77,8 +77,9 @@ def test_intersect_matches_double_precision_brute_force(soup_case, accel, simd):
 @pytest.mark.parametrize("accel", ["bvh", "bvh2"])
 def test_spatial_splits_give_the_same_hits(soup_case, accel):
     vertices, triangles, origins, directions, ref = soup_case
-    plain = trident.Scene(vertices, triangles, accel=accel)
+    plain = trident.Scene(vertices, triangles, accel=accel, builder="binned")
     cut = trident.Scene(vertices, triangles, accel=accel, builder="spatial", spatial_split_budget=1.0)
+    assert plain.stats["builder"] == "binned_sah" and cut.stats["builder"] == "spatial_sah"
     assert cut.stats["references"] >= plain.stats["references"]
     expected, hits = plain.intersect(origins, directions), cut.intersect(origins, directions)
     np.testing.assert_array_equal(hits.triangle, expected.triangle)

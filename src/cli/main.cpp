@@ -121,15 +121,12 @@ void add_common_options(CLI::App& command, CommonOptions& common, bool with_acce
         command
             .add_option_function<std::string>(
                 "--bvh-builder",
-                [&common](const std::string& builder) {
-                    common.accel_options.bvh.builder = builder == "sweep"     ? BvhBuilder::sweep_sah
-                                                       : builder == "spatial" ? BvhBuilder::spatial_sah
-                                                                              : BvhBuilder::binned_sah;
-                },
-                "BVH: SAH over centroid bins (binned, default), over every centroid plane (sweep, slow, the "
-                "quality reference), or binned with spatial splits (spatial: the higher-quality build, up to 1.5 "
-                "references a triangle)")
-            ->check(CLI::IsMember({"binned", "sweep", "spatial"}));
+                [&common](const std::string& builder) { common.accel_options.bvh.builder = parse_bvh_builder(builder); },
+                "BVH: auto (default: binned with spatial splits where the mesh has large triangles, binned "
+                "elsewhere; bvh2 always binned), binned (SAH over centroid bins), sweep (over every centroid "
+                "plane, slow, the quality reference) or spatial (with spatial splits: the higher-quality build, up "
+                "to 1.5 references a triangle)")
+            ->check(CLI::IsMember({"auto", "binned", "sweep", "spatial"}));
         // Havran's perfect splits, off by default: kept selectable to measure what clipping buys.
         command.add_flag("--kd-perfect-splits", common.accel_options.kdtree.perfect_splits,
                          "KD-tree: clip triangles straddling a split plane to each child's cell (Havran)");

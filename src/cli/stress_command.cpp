@@ -31,7 +31,7 @@ struct StressCommandOptions {
     std::string triangle_test = "watertight";
     std::string slabs = "robust";
     int bvh_width = BvhOptions{}.width;
-    std::string bvh_builder = "binned";
+    std::string bvh_builder = "auto";
     std::size_t brute_rays = 20'000;
     int threads = 0;
     std::optional<std::filesystem::path> json;
@@ -51,9 +51,7 @@ StressRunOptions run_options(const StressCommandOptions& o) {
         run.accels.push_back(*kind);
     }
     run.accel_options.bvh.width = o.bvh_width;
-    run.accel_options.bvh.builder = o.bvh_builder == "spatial" ? BvhBuilder::spatial_sah
-                                    : o.bvh_builder == "sweep" ? BvhBuilder::sweep_sah
-                                                               : BvhBuilder::binned_sah;
+    run.accel_options.bvh.builder = parse_bvh_builder(o.bvh_builder);
     for (const std::string& name : o.widths) {
         if (name == "all") {
             const auto all = runnable_widths();
@@ -124,8 +122,9 @@ StressCommand::StressCommand(CLI::App& app) : options_(std::make_unique<StressCo
                      "children per node of the bvh rows' tree: 2, 4, 8 or 16 (default: 16 where AVX2 runs, else 8)")
         ->check(CLI::IsMember({2, 4, 8, 16}));
     command_->add_option("--bvh-builder", o.bvh_builder,
-                         "builder of the bvh and bvh2 rows' trees: binned (default), sweep or spatial (spatial splits)")
-        ->check(CLI::IsMember({"binned", "sweep", "spatial"}));
+                         "builder of the bvh and bvh2 rows' trees: auto (default: spatial splits where the mesh has "
+                         "large triangles, binned elsewhere; bvh2 always binned), binned, sweep or spatial")
+        ->check(CLI::IsMember({"auto", "binned", "sweep", "spatial"}));
     command_->add_option("--simd", o.widths, "widths, comma-separated: all (default) or scalar,4,8,16")->delimiter(',');
     command_->add_option("--triangle-test", o.triangle_test, "watertight (default) or moller_trumbore");
     command_->add_option("--slabs", o.slabs, "box tests: robust (default) or fast, to measure what the fast one loses");
