@@ -320,9 +320,18 @@ def build_section(runs):
         return run.one(scene=scene, structure=s, traversal="scalar", threads=t, rays="primary") or \
             run.one(scene=scene, structure=s, threads=t, rays="primary")
 
+    # The wide BVH's builder per scene, where the run names it (the default, auto, picks it per mesh).
+    with_builder = "bvh" in structures and any(r.get("builder") for r in run.ours(structure="bvh"))
+    if with_builder:
+        out[-1:-1] = ["", "The wide BVH's builder column names the tree each scene got from the build it ran with "
+                      "(`auto`, the default: the tree with spatial splits where the mesh has large triangles and that "
+                      "tree's SAH is lower, else the binned one; its build time counts every tree it built)."]
     body = []
     for scene in run.scenes:
         cells = [scene, str(run.select(scene=scene)[0]["triangles"])]
+        if with_builder:
+            r = scalar_row(scene, "bvh", run.threads[-1])
+            cells.append("-" if r is None or not r.get("builder") else r["builder"])
         for s in structures:
             cells.append(" / ".join(fmt(None if r is None else r["build_ms"])
                                     for r in (scalar_row(scene, s, t) for t in run.threads)))
@@ -330,7 +339,8 @@ def build_section(runs):
             r = scalar_row(scene, s, run.threads[-1])
             cells.append(fmt(None if r is None else r["bytes_per_triangle"]))
         body.append(cells)
-    out.append(table(["scene", "triangles"] + ["build ms {}".format(name_of(s)) for s in structures] +
+    out.append(table(["scene", "triangles"] + (["builder {}".format(name_of("bvh"))] if with_builder else []) +
+                     ["build ms {}".format(name_of(s)) for s in structures] +
                      ["bytes/tri {}".format(name_of(s)) for s in structures], body))
     out.append("")
     body = []
