@@ -295,8 +295,8 @@ void add_options(CLI::App& app, Arguments& args) {
         ->check(CLI::IsMember({4, 8, 16}));
     app.add_option("--bvh-builder", args.bvh_builder,
                    "builder of the bvh and bvh2 rows' trees: auto (default: spatial splits where the mesh has "
-                   "large triangles, binned elsewhere; bvh2 always binned), binned, sweep, or spatial (spatial "
-                   "splits, the higher-quality build)")
+                   "large triangles and they lower the SAH, binned elsewhere; bvh2 always binned), binned, sweep, "
+                   "or spatial (spatial splits, the higher-quality build)")
         ->check(CLI::IsMember({"auto", "binned", "sweep", "spatial"}));
     app.add_option("--simd", args.simd,
                    "traversals, comma separated: scalar,simd4,simd8,simd16 or auto (default scalar)")

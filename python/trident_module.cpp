@@ -655,9 +655,9 @@ single precision exactly as the benchmark and trident's renderer compute them.)"
 vertices (V, 3) and triangles (T, 3) of vertex indices; accel is "bvh" (the wide BVH), "bvh2"
 (the binary one), "kdtree", "octree" or "brute". Keywords set the structure's build options:
   bvh:    width (children per node: 2, 4, 8 or 16; default 16 where AVX2 runs, else 8),
-          builder ("auto", the default: "spatial" where the mesh has large triangles, "binned" elsewhere,
-          bvh2 always "binned"; "binned", "sweep" or "spatial": with spatial splits), bin_count,
-          large_node_bin_count, all_axes, traversal_cost, intersection_cost, max_leaf_size,
+          builder ("auto", the default: "spatial" where the mesh has large triangles and spatial splits
+          lower the SAH, "binned" elsewhere, bvh2 always "binned"; or "binned", "sweep", "spatial"),
+          bin_count, large_node_bin_count, all_axes, traversal_cost, intersection_cost, max_leaf_size,
           spatial_split_budget (bvh2 takes the same)
   kdtree: intersection_cost, traversal_cost, empty_bonus, max_depth, depth_offset,
           max_bad_refines, leaf_triangles, perfect_splits

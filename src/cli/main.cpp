@@ -122,8 +122,8 @@ void add_common_options(CLI::App& command, CommonOptions& common, bool with_acce
             .add_option_function<std::string>(
                 "--bvh-builder",
                 [&common](const std::string& builder) { common.accel_options.bvh.builder = parse_bvh_builder(builder); },
-                "BVH: auto (default: binned with spatial splits where the mesh has large triangles, binned "
-                "elsewhere; bvh2 always binned), binned (SAH over centroid bins), sweep (over every centroid "
+                "BVH: auto (default: spatial splits where the mesh has large triangles and they lower the SAH, "
+                "binned elsewhere; bvh2 always binned), binned (SAH over centroid bins), sweep (over every centroid "
                 "plane, slow, the quality reference) or spatial (with spatial splits: the higher-quality build, up "
                 "to 1.5 references a triangle)")
             ->check(CLI::IsMember({"auto", "binned", "sweep", "spatial"}));
