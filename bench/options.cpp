@@ -297,7 +297,7 @@ void add_options(CLI::App& app, Arguments& args) {
                    "builder of the bvh and bvh2 rows' trees: auto (default: spatial splits where the mesh has "
                    "large triangles and they lower the SAH, binned elsewhere; bvh2 always binned), binned, sweep, "
                    "or spatial (spatial splits, the higher-quality build)")
-        ->check(CLI::IsMember({"auto", "binned", "sweep", "spatial"}));
+        ->check(CLI::IsMember(bvh_builder_names()));
     app.add_option("--simd", args.simd,
                    "traversals, comma separated: scalar,simd4,simd8,simd16 or auto (default scalar)")
         ->delimiter(',');

@@ -1,5 +1,6 @@
 #include "accel/bvh/bvh_options.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -29,9 +30,18 @@ const char* to_string(BvhBuilder builder) {
 }
 
 BvhBuilder parse_bvh_builder(std::string_view name) {
-    for (const BvhBuilderName& known : kBvhBuilderNames)
+    std::string known_names;
+    for (const BvhBuilderName& known : kBvhBuilderNames) {
         if (name == known.name) return known.builder;
-    throw std::invalid_argument("unknown BVH builder '" + std::string(name) + "' (auto, binned, sweep, spatial)");
+        known_names += (known_names.empty() ? "" : ", ") + std::string(known.name);
+    }
+    throw std::invalid_argument("unknown BVH builder '" + std::string(name) + "' (" + known_names + ")");
+}
+
+std::vector<std::string> bvh_builder_names() {
+    std::vector<std::string> names;
+    for (const BvhBuilderName& known : kBvhBuilderNames) names.emplace_back(known.name);
+    return names;
 }
 
 BvhOptions BvhOptions::study() {
@@ -45,8 +55,7 @@ BvhOptions BvhOptions::study() {
 
 void BvhOptions::validate() const {
     auto fail = [](const std::string& what) { throw std::invalid_argument("BvhOptions: " + what); };
-    if (builder != BvhBuilder::automatic && builder != BvhBuilder::binned_sah && builder != BvhBuilder::sweep_sah &&
-        builder != BvhBuilder::spatial_sah)
+    if (std::ranges::none_of(kBvhBuilderNames, [&](const BvhBuilderName& known) { return known.builder == builder; }))
         fail("unknown builder");
     if (!(spatial_split_budget >= 0.0f && spatial_split_budget <= kMaxSpatialSplitBudget))
         fail("spatial_split_budget must be in [0, " + std::to_string(kMaxSpatialSplitBudget) + "]");

@@ -1,7 +1,9 @@
 #pragma once
 // How a BVH is built: which builder, the SAH cost model and its limits.
 #include <cstdint>
+#include <string>
 #include <string_view>
+#include <vector>
 
 namespace trident {
 
@@ -26,6 +28,8 @@ inline constexpr BvhBuilderName kBvhBuilderNames[] = {{"auto", BvhBuilder::autom
                                                       {"spatial", BvhBuilder::spatial_sah}};
 /// The builder of a name in kBvhBuilderNames; throws std::invalid_argument for any other.
 BvhBuilder parse_bvh_builder(std::string_view name);
+/// kBvhBuilderNames' names, for option checks and messages.
+std::vector<std::string> bvh_builder_names();
 
 /// The wide BVH's fastest node width where this process runs (under TRIDENT_ISA's cap): 16
 /// children where its kernels have 8 or 16 lanes (AVX2, AVX-512), whose box tests take a 16-wide

@@ -116,14 +116,15 @@ struct Subtree {
     std::vector<BvhNode> nodes;
     std::vector<TriangleId> ids;
 
-    /// Appends `other`, its indices moved past what this subtree holds.
-    void splice(const Subtree& other) {
+    /// Appends a subtree's nodes (indexed from its first) and leaf ids, their indices moved past
+    /// what this subtree holds.
+    void splice(std::span<const BvhNode> other_nodes, std::span<const TriangleId> other_ids) {
         const auto node_base = std::uint32_t(nodes.size()), id_base = std::uint32_t(ids.size());
-        for (BvhNode node : other.nodes) {
+        for (BvhNode node : other_nodes) {
             node.index += node.is_leaf() ? id_base : node_base;
             nodes.push_back(node);
         }
-        ids.insert(ids.end(), other.ids.begin(), other.ids.end());
+        ids.insert(ids.end(), other_ids.begin(), other_ids.end());
     }
 };
 
@@ -170,9 +171,9 @@ private:
                     right = build(std::move(children.right), children.right_bounds, depth + 1, remaining - left_budget);
                 });
             Subtree parent_and_left{std::move(out.nodes), std::move(out.ids)};
-            parent_and_left.splice(left);
+            parent_and_left.splice(left.nodes, left.ids);
             parent_and_left.nodes[index].index = std::uint32_t(parent_and_left.nodes.size());
-            parent_and_left.splice(right);
+            parent_and_left.splice(right.nodes, right.ids);
             out = std::move(parent_and_left);
             return;
         }
@@ -201,10 +202,10 @@ private:
         for (const Reference& r : refs) prims.emplace_back(r.box, r.id);
         BinnedSahSplitter splitter(prims, options_);
         const HugePageArray<BvhNode> nodes = TreeBuilder(splitter, options_).build(whole_range(prims), depth);
-        Subtree built{{nodes.begin(), nodes.end()}, {}};
-        built.ids.reserve(prims.size());
-        for (const PrimitiveRef& prim : prims) built.ids.push_back(prim.id);  // in leaf order after the build
-        out.splice(built);
+        std::vector<TriangleId> ids;
+        ids.reserve(prims.size());
+        for (const PrimitiveRef& prim : prims) ids.push_back(prim.id);  // in leaf order after the build
+        out.splice(nodes, ids);
     }
 
     /// The node's children, or false for a leaf. A node that fits one block of the wide BVH gets

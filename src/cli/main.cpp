@@ -126,7 +126,7 @@ void add_common_options(CLI::App& command, CommonOptions& common, bool with_acce
                 "binned elsewhere; bvh2 always binned), binned (SAH over centroid bins), sweep (over every centroid "
                 "plane, slow, the quality reference) or spatial (with spatial splits: the higher-quality build, up "
                 "to 1.5 references a triangle)")
-            ->check(CLI::IsMember({"auto", "binned", "sweep", "spatial"}));
+            ->check(CLI::IsMember(bvh_builder_names()));
         // Havran's perfect splits, off by default: kept selectable to measure what clipping buys.
         command.add_flag("--kd-perfect-splits", common.accel_options.kdtree.perfect_splits,
                          "KD-tree: clip triangles straddling a split plane to each child's cell (Havran)");

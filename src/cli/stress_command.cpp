@@ -125,7 +125,7 @@ StressCommand::StressCommand(CLI::App& app) : options_(std::make_unique<StressCo
                          "builder of the bvh and bvh2 rows' trees: auto (default: spatial splits where the mesh has "
                          "large triangles and they lower the SAH, binned elsewhere; bvh2 always binned), binned, "
                          "sweep or spatial")
-        ->check(CLI::IsMember({"auto", "binned", "sweep", "spatial"}));
+        ->check(CLI::IsMember(bvh_builder_names()));
     command_->add_option("--simd", o.widths, "widths, comma-separated: all (default) or scalar,4,8,16")->delimiter(',');
     command_->add_option("--triangle-test", o.triangle_test, "watertight (default) or moller_trumbore");
     command_->add_option("--slabs", o.slabs, "box tests: robust (default) or fast, to measure what the fast one loses");
