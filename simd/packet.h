@@ -18,6 +18,7 @@
 #include "core/slab_test.h"
 #include "simd/lanes.h"
 #include "simd/mask.h"
+#include "simd/ray_lanes.h"
 
 namespace trident {
 
@@ -37,7 +38,7 @@ struct RayPacket {
 
     /// Lane i holds rays[i]; 1 <= rays.size() <= width. Lanes past the count are inactive and
     /// copy the first ray's origin and direction, so they hold no NaN and keep its octant.
-    explicit RayPacket(std::span<const Ray> rays) : RayPacket(LaneArrays(rays)) {}
+    explicit RayPacket(std::span<const Ray> rays) : RayPacket(simd::RayLanes<Arch>(rays)) {}
 
     /// Rays already in lanes: those of `live` from `origins` along `dirs` over [tmins, tmaxs];
     /// the other lanes become inactive ([+inf, -inf]) and must hold finite origins and directions.
@@ -55,28 +56,9 @@ struct RayPacket {
     bool shares_octant() const { return octant != kMixedOctant; }
 
 private:
-    struct LaneArrays {
-        std::array<float, width> ox, oy, oz, dx, dy, dz, tmin, tmax;
-        std::array<bool, width> live;
-
-        explicit LaneArrays(std::span<const Ray> rays) {
-            assert(!rays.empty() && rays.size() <= width);
-            for (std::size_t i = 0; i < width; ++i) {
-                live[i] = i < rays.size();
-                const Ray& ray = rays[live[i] ? i : 0];
-                ox[i] = ray.origin.x, oy[i] = ray.origin.y, oz[i] = ray.origin.z;
-                dx[i] = ray.dir.x, dy[i] = ray.dir.y, dz[i] = ray.dir.z;
-                tmin[i] = ray.tmin, tmax[i] = ray.tmax;  // the lane constructor empties dead lanes
-            }
-        }
-    };
-
-    static Float load_lanes(const std::array<float, width>& lanes) { return Float::load_unaligned(lanes.data()); }
-
-    explicit RayPacket(const LaneArrays& lanes)
-        : RayPacket({load_lanes(lanes.ox), load_lanes(lanes.oy), load_lanes(lanes.oz)},
-                    {load_lanes(lanes.dx), load_lanes(lanes.dy), load_lanes(lanes.dz)}, load_lanes(lanes.tmin),
-                    load_lanes(lanes.tmax), Mask::load_unaligned(lanes.live.data())) {}
+    explicit RayPacket(const simd::RayLanes<Arch>& lanes)
+        : RayPacket({lanes.field[0], lanes.field[1], lanes.field[2]}, {lanes.field[3], lanes.field[4], lanes.field[5]},
+                    lanes.field[6], lanes.field[7], lanes.live) {}
 
     static int shared_octant(const Vec3T<Mask>& negative, const Mask& active) {
         const std::uint32_t active_bits = simd::mask_bits(active);

@@ -128,9 +128,11 @@ typename RayPacket<Arch>::Mask test_triangle_lanes(const Intersector& intersecto
 /// 0.93-1.02x to 0.77-0.82x, where the share of one half keeps them (the 8192 blocks lie between
 /// Teapot's 1.9 thousand and the next scene's 45). Primary and shadow packets stay within the
 /// cone. A caller's explicit threshold (tests, sweeps) means exactly that threshold and no second
-/// rule.
+/// rule. Always inlined: called out of line, gcc returned the switch through a stack slot written
+/// in parts and read back whole, whose store-forwarding stall took 9% of Teapot's 8-lane primary
+/// packets on the Zen 5 host (perf; bench/experiments/bvh-traversal.md).
 template <class Arch>
-bvh::PacketSwitch wide_packet_switch(const RayPacket<Arch>& rays, int single_ray_lanes, std::size_t tree_blocks) {
+[[gnu::always_inline]] inline bvh::PacketSwitch wide_packet_switch(const RayPacket<Arch>& rays, int single_ray_lanes, std::size_t tree_blocks) {
     if (single_ray_lanes != kDefaultSingleRayLanes) return {single_ray_lanes, 0.0f};
     if (bvh::directions_within_cone(rays, kCoherentCosine)) return {kWideSingleRayLanes, 0.0f};
     if (bvh::incoherent_lanes_alone_from_root(tree_blocks))
@@ -211,7 +213,8 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
     // Packets of one octant first test a node's children against all their lanes at once
     // (wide_frustum.h), and lane by lane only the children some lane may enter.
     const std::optional<bvh::RayGroupBounds> group = bvh::RayGroupBounds::of(rays, live);
-    const bvh::WideFrustumTest<Width, Slabs> frustum(group.value_or(bvh::RayGroupBounds{}));
+    const bvh::RayGroupBounds no_group{};  // read by reference, never copied (as `of` says why)
+    const bvh::WideFrustumTest<Width, Slabs> frustum(group ? *group : no_group);
     const std::optional<bvh::PlaneRows> shared_rows = bvh::PlaneRows::of_octant(rays.octant);
     // Packets from one origin (a camera's) walk the inner nodes by the frustum alone, as Embree's
     // coherent packets do (its intersectCoherent): a child the frustum admits is entered by every

@@ -62,9 +62,16 @@ struct PrimaryBlock {
         std::array<Hit, kLanes> lanes;
         hits.store(lanes);
         const std::uint32_t columns = std::min(kBlockWidth, tile.x1 - x0);
-        for (std::uint32_t row = 0; row < kBlockHeight && y0 + row < tile.y1; ++row)
-            std::copy_n(lanes.begin() + row * kBlockWidth, columns,
-                        out.begin() + std::ptrdiff_t(std::size_t(y0 + row) * image_width + x0));
+        for (std::uint32_t row = 0; row < kBlockHeight && y0 + row < tile.y1; ++row) {
+            const auto from = lanes.begin() + row * kBlockWidth;
+            const auto to = out.begin() + std::ptrdiff_t(std::size_t(y0 + row) * image_width + x0);
+            // A whole row by a copy of known size: of a count known only here the compiler made a
+            // `rep movs`, whose start-up took 4% of Teapot's 8-lane primary packets (perf).
+            if (columns == kBlockWidth)
+                std::copy_n(from, kBlockWidth, to);
+            else
+                std::copy_n(from, columns, to);
+        }
     }
 
 private:
