@@ -63,6 +63,20 @@ xsimd::batch<std::uint32_t, Arch> select_index(const xsimd::batch_bool<float, Ar
     }
 }
 
+/// Lane i holding i (as a float, exact), for masks of lanes made in registers: compared with a
+/// broadcast count, the first lanes; with a broadcast index, one lane. A mask or vector loaded from
+/// an array written lane by lane waits until those narrow stores retire (no store forwarding).
+template <class Arch>
+xsimd::batch<float, Arch> lane_indices() {
+    using Float = xsimd::batch<float, Arch>;
+    alignas(64) static constexpr std::array<float, Float::size> kIndex = [] {
+        std::array<float, Float::size> out{};
+        for (std::size_t i = 0; i < Float::size; ++i) out[i] = float(i);
+        return out;
+    }();
+    return Float::load_aligned(kIndex.data());
+}
+
 /// Smallest lane; NaN lanes are skipped (+inf when every lane is NaN). For the smallest active
 /// lane, pass select(active, x, +inf). A tree of halving shuffles: the packet walks reduce a
 /// packet's bounds and hits with it several times a packet, and the lane-by-lane loop it replaced

@@ -99,15 +99,7 @@ struct RayLanes {
     }
 
 private:
-    /// Lanes 0 to count - 1.
-    static Mask first_lanes(std::size_t count) {
-        alignas(64) static constexpr std::array<float, width> kLaneIndex = [] {
-            std::array<float, width> out{};
-            for (std::size_t i = 0; i < width; ++i) out[i] = float(i);
-            return out;
-        }();
-        return Float::load_aligned(kLaneIndex.data()) < Float(float(count));
-    }
+    static Mask first_lanes(std::size_t count) { return lane_indices<Arch>() < Float(float(count)); }
 };
 
 }  // namespace trident::simd

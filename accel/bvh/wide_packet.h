@@ -163,29 +163,34 @@ typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::trace_singly(const Ray
                                                                        bvh::ChildRef from, HitPacket<Arch>& hits,
                                                                        Counters& counters,
                                                                        RayCoherence coherence) const {
-    using L = Lanes<typename RayPacket<Arch>::Float>;
+    using Float = typename RayPacket<Arch>::Float;
+    using Mask = typename RayPacket<Arch>::Mask;
+    using L = Lanes<Float>;
     const auto ox = L::to_array(rays.origin.x), oy = L::to_array(rays.origin.y), oz = L::to_array(rays.origin.z);
     const auto dx = L::to_array(rays.dir.x), dy = L::to_array(rays.dir.y), dz = L::to_array(rays.dir.z);
     const auto tmin = L::to_array(rays.tmin), tmax = L::to_array(rays.tmax);
-    auto t = L::to_array(hits.t), u = L::to_array(hits.u), v = L::to_array(hits.v);
+    const auto t = L::to_array(hits.t), u = L::to_array(hits.u), v = L::to_array(hits.v);
     std::array<std::uint32_t, L::width> ids;
     hits.triangle.store_unaligned(ids.data());
-    std::array<bool, L::width> found{};
+    // Each hit goes into its lane by selects, in registers: written into these arrays and loaded
+    // back as vectors, it made the loads wait for the stores to retire (simd::lane_indices).
+    const Float lane_index = simd::lane_indices<Arch>();
+    Mask found(false);
     for (; lanes != 0; lanes &= lanes - 1) {
         const int i = std::countr_zero(lanes);
         const Ray ray{{ox[i], oy[i], oz[i]}, {dx[i], dy[i], dz[i]}, tmin[i], tmax[i]};
         const Hit so_far = ids[i] == kNoTriangle ? Hit{kNoTriangle, t[i]} : Hit{ids[i], t[i], u[i], v[i]};
         const Hit hit = traverse<AnyHit, Test, Slabs>(ray, from, so_far, counters, coherence);
         if (!hit.is_hit()) continue;
-        found[i] = AnyHit;
-        ids[i] = hit.triangle, u[i] = hit.u, v[i] = hit.v;
-        t[i] = AnyHit ? -kInfinity : hit.t;  // an any-hit lane that has hit admits no box again
+        const Mask lane = lane_index == Float(float(i));
+        if constexpr (AnyHit) found = found | lane;
+        hits.triangle = simd::select_index(lane, xsimd::batch<std::uint32_t, Arch>(hit.triangle), hits.triangle);
+        hits.u = xsimd::select(lane, Float(hit.u), hits.u);
+        hits.v = xsimd::select(lane, Float(hit.v), hits.v);
+        // An any-hit lane that has hit admits no box again.
+        hits.t = xsimd::select(lane, Float(AnyHit ? -kInfinity : hit.t), hits.t);
     }
-    hits.triangle = xsimd::batch<std::uint32_t, Arch>::load_unaligned(ids.data());
-    hits.t = L::from_array(t);
-    hits.u = L::from_array(u);
-    hits.v = L::from_array(v);
-    return RayPacket<Arch>::Mask::load_unaligned(found.data());
+    return found;
 }
 
 template <std::size_t Width, std::size_t BlockSize>
