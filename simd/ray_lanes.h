@@ -35,7 +35,8 @@ struct RayLanes {
     // compiles this header for each kernel file's own), and only such files make their batches.
     explicit RayLanes(std::span<const Ray> rays) : live(first_lanes(rays.size())) {
         assert(!rays.empty() && rays.size() <= width);
-        const auto ray = [&](std::size_t i) { return &rays[i < rays.size() ? i : 0].origin.x; };
+        // Ray i's eight floats (the static_assert above), ray 0's past the count.
+        const auto ray = [&](std::size_t i) { return reinterpret_cast<const float*>(&rays[i < rays.size() ? i : 0]); };
         if constexpr (kHasMaskRegisters<Arch>) {
             static_assert(width == 16);
             // Rays j and j + 8 share register j; the 8 x 8 transpose within each 256-bit half
@@ -47,17 +48,18 @@ struct RayLanes {
             const __mmask16 all = 0xFFFF;
             __m512 r[8];
             for (std::size_t j = 0; j < 8; ++j)
-                r[j] = _mm512_castpd_ps(
-                    _mm512_maskz_insertf64x4(__mmask8(0xFF), _mm512_castps_pd(_mm512_castps256_ps512(_mm256_loadu_ps(ray(j)))),
-                                             _mm256_castps_pd(_mm256_loadu_ps(ray(j + 8))), 1));
+                r[j] = _mm512_castpd_ps(_mm512_maskz_insertf64x4(
+                    __mmask8(0xFF), _mm512_castps_pd(_mm512_castps256_ps512(_mm256_loadu_ps(ray(j)))),
+                    _mm256_castps_pd(_mm256_loadu_ps(ray(j + 8))), 1));
             __m512 t[8], s[8];
             for (std::size_t j = 0; j < 8; j += 2) {
                 t[j] = _mm512_maskz_unpacklo_ps(all, r[j], r[j + 1]);
                 t[j + 1] = _mm512_maskz_unpackhi_ps(all, r[j], r[j + 1]);
             }
-            for (std::size_t q = 0; q < 8; q += 4) {  // q: rays 0-3 (and 8-11), then 4-7 (and 12-15)
-                s[q] = _mm512_shuffle_ps(t[q], t[q + 2], _MM_SHUFFLE(1, 0, 1, 0));      // fields 0 and 4
-                s[q + 1] = _mm512_shuffle_ps(t[q], t[q + 2], _MM_SHUFFLE(3, 2, 3, 2));  // 1 and 5
+            // q: rays 0-3 (and 8-11), then 4-7 (and 12-15).
+            for (std::size_t q = 0; q < 8; q += 4) {
+                s[q] = _mm512_shuffle_ps(t[q], t[q + 2], _MM_SHUFFLE(1, 0, 1, 0));          // fields 0 and 4
+                s[q + 1] = _mm512_shuffle_ps(t[q], t[q + 2], _MM_SHUFFLE(3, 2, 3, 2));      // 1 and 5
                 s[q + 2] = _mm512_shuffle_ps(t[q + 1], t[q + 3], _MM_SHUFFLE(1, 0, 1, 0));  // 2 and 6
                 s[q + 3] = _mm512_shuffle_ps(t[q + 1], t[q + 3], _MM_SHUFFLE(3, 2, 3, 2));  // 3 and 7
             }
@@ -67,6 +69,8 @@ struct RayLanes {
                 field[f] = _mm512_permutex2var_ps(s[f], low, s[f + 4]);
                 field[f + 4] = _mm512_permutex2var_ps(s[f], high, s[f + 4]);
             }
+#else
+            static_assert(sizeof(Arch) == 0, "AVX-512 batches in a file compiled without AVX-512");
 #endif
         } else if constexpr (kIs256Bit<Arch>) {
             static_assert(width == 8);
@@ -77,7 +81,8 @@ struct RayLanes {
                 t[j] = _mm256_unpacklo_ps(r[j], r[j + 1]);
                 t[j + 1] = _mm256_unpackhi_ps(r[j], r[j + 1]);
             }
-            for (std::size_t q = 0; q < 8; q += 4) {  // q: rays 0-3, then 4-7
+            // q: rays 0-3, then 4-7.
+            for (std::size_t q = 0; q < 8; q += 4) {
                 s[q] = _mm256_shuffle_ps(t[q], t[q + 2], _MM_SHUFFLE(1, 0, 1, 0));          // fields 0 and 4
                 s[q + 1] = _mm256_shuffle_ps(t[q], t[q + 2], _MM_SHUFFLE(3, 2, 3, 2));      // 1 and 5
                 s[q + 2] = _mm256_shuffle_ps(t[q + 1], t[q + 3], _MM_SHUFFLE(1, 0, 1, 0));  // 2 and 6
@@ -87,6 +92,8 @@ struct RayLanes {
                 field[f] = _mm256_permute2f128_ps(s[f], s[f + 4], 0x20);
                 field[f + 4] = _mm256_permute2f128_ps(s[f], s[f + 4], 0x31);
             }
+#else
+            static_assert(sizeof(Arch) == 0, "AVX batches in a file compiled without AVX");
 #endif
         } else {
             static_assert(kIs128Bit<Arch> && width == 4);

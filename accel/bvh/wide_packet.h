@@ -132,7 +132,8 @@ typename RayPacket<Arch>::Mask test_triangle_lanes(const Intersector& intersecto
 /// in parts and read back whole, whose store-forwarding stall took 9% of Teapot's 8-lane primary
 /// packets on the Zen 5 host (perf; bench/experiments/bvh-traversal.md).
 template <class Arch>
-[[gnu::always_inline]] inline bvh::PacketSwitch wide_packet_switch(const RayPacket<Arch>& rays, int single_ray_lanes, std::size_t tree_blocks) {
+[[gnu::always_inline]] inline bvh::PacketSwitch wide_packet_switch(const RayPacket<Arch>& rays, int single_ray_lanes,
+                                                                   std::size_t tree_blocks) {
     if (single_ray_lanes != kDefaultSingleRayLanes) return {single_ray_lanes, 0.0f};
     if (bvh::directions_within_cone(rays, kCoherentCosine)) return {kWideSingleRayLanes, 0.0f};
     if (bvh::incoherent_lanes_alone_from_root(tree_blocks))
