@@ -41,10 +41,14 @@ void intersect_variant(const Structure& structure, const RayPacket<Arch>& rays, 
 
 template <class Structure, class Arch, class Counters>
 typename RayPacket<Arch>::Mask occluded_variant(const Structure& structure, const RayPacket<Arch>& rays,
-                                                Counters& counters, PacketVariant variant) {
+                                                Counters& counters, PacketVariant variant, LastOccluder* last) {
     return with_packet_variant<Counters>(variant, [&](auto test, auto slabs) {
-        return structure.template occluded<decltype(test)::value, decltype(slabs)::value>(rays, counters,
-                                                                                          variant.single_ray_lanes);
+        constexpr TriangleTest kTest = decltype(test)::value;
+        constexpr SlabTest kSlabs = decltype(slabs)::value;
+        if constexpr (requires { structure.template occluded<kTest, kSlabs>(rays, counters, 0, last); })
+            return structure.template occluded<kTest, kSlabs>(rays, counters, variant.single_ray_lanes, last);
+        else
+            return structure.template occluded<kTest, kSlabs>(rays, counters, variant.single_ray_lanes);
     });
 }
 
@@ -62,13 +66,13 @@ void PacketKernels<Structure, Arch>::intersect(const Structure& structure, const
 }
 template <class Structure, class Arch>
 auto PacketKernels<Structure, Arch>::occluded(const Structure& structure, const Rays& rays, NoCounters& counters,
-                                              PacketVariant variant) -> Mask {
-    return detail::occluded_variant(structure, rays, counters, variant);
+                                              PacketVariant variant, LastOccluder* last) -> Mask {
+    return detail::occluded_variant(structure, rays, counters, variant, last);
 }
 template <class Structure, class Arch>
 auto PacketKernels<Structure, Arch>::occluded(const Structure& structure, const Rays& rays, TraversalCounters& counters,
-                                              PacketVariant variant) -> Mask {
-    return detail::occluded_variant(structure, rays, counters, variant);
+                                              PacketVariant variant, LastOccluder* last) -> Mask {
+    return detail::occluded_variant(structure, rays, counters, variant, last);
 }
 
 }  // namespace trident

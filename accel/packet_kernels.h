@@ -8,6 +8,8 @@
 //
 // The triangle test, the slab test and the single-ray threshold are run-time arguments here and
 // compile-time ones inside: one switch per packet, against thousands of cycles of traversal.
+#include <cstdint>
+
 #include "accel/accel_stats.h"
 #include "core/intersect_triangle.h"
 #include "core/slab_test.h"
@@ -27,6 +29,16 @@ struct PacketVariant {
     int single_ray_lanes = kDefaultSingleRayLanes;
 };
 
+/// What a structure remembers of the occluder that stopped the last shadow ray or packet of a list
+/// (the wide BVH: its block of triangles), to test it first for the next, as Haines and Greenberg's
+/// shadow cache (1986) tests the last occluder first: neighbouring pixels' shadow rays are mostly
+/// stopped by the same few triangles. Only the work depends on it, never an answer; structures
+/// without such a test ignore it.
+struct LastOccluder {
+    static constexpr std::uint32_t kNone = ~std::uint32_t(0);
+    std::uint32_t id = kNone;
+};
+
 /// Closest hit per live lane into `hits` (constructed from the rays), or the lanes that hit
 /// anything: per lane what the structure's single-ray traversal answers (each structure's header
 /// says where that holds bit for bit). Counters count per packet; counted traversals take the
@@ -40,9 +52,10 @@ struct PacketKernels {
                           PacketVariant variant);
     static void intersect(const Structure& structure, const Rays& rays, Hits& hits, TraversalCounters& counters,
                           PacketVariant variant);
-    static Mask occluded(const Structure& structure, const Rays& rays, NoCounters& counters, PacketVariant variant);
+    static Mask occluded(const Structure& structure, const Rays& rays, NoCounters& counters, PacketVariant variant,
+                         LastOccluder* last = nullptr);
     static Mask occluded(const Structure& structure, const Rays& rays, TraversalCounters& counters,
-                         PacketVariant variant);
+                         PacketVariant variant, LastOccluder* last = nullptr);
 };
 
 /// The same with the structure and the architecture deduced.
@@ -53,8 +66,9 @@ void intersect_packet(const Structure& structure, const RayPacket<Arch>& rays, H
 }
 template <class Structure, class Arch, class Counters>
 typename RayPacket<Arch>::Mask occlude_packet(const Structure& structure, const RayPacket<Arch>& rays,
-                                              Counters& counters, PacketVariant variant = {}) {
-    return PacketKernels<Structure, Arch>::occluded(structure, rays, counters, variant);
+                                              Counters& counters, PacketVariant variant = {},
+                                              LastOccluder* last = nullptr) {
+    return PacketKernels<Structure, Arch>::occluded(structure, rays, counters, variant, last);
 }
 
 }  // namespace trident

@@ -27,6 +27,7 @@ struct Arguments {
     int bvh_width = BvhOptions{}.width;
     std::string bvh_builder = "auto";
     bool quiet = false, scaling = false, vs_single = false;
+    std::string last_occluder = "on";
 };
 
 [[noreturn]] void refuse(const std::string& message) { throw std::invalid_argument(message); }
@@ -274,6 +275,7 @@ BenchOptions resolve(const Arguments& args, const CLI::App& app) {
     options.quiet = args.quiet;
     options.scaling = args.scaling;
     options.vs_single = args.vs_single;
+    options.last_occluder = args.last_occluder == "on";
     options.paired = resolve_paired(args.paired, options.ray_kinds);
     options.bvh_width = args.bvh_width;
     options.bvh_builder = parse_bvh_builder(args.bvh_builder);
@@ -343,6 +345,11 @@ void add_options(CLI::App& app, Arguments& args) {
     app.add_flag("--vs-single", args.vs_single,
                  "packet rows of shadow and diffuse rays also time the same rays as single rays right after each "
                  "run; their speed-up over single rays is the median of the pairs' ratios");
+    app.add_option("--last-occluder", args.last_occluder,
+                   "shadow rows: each ray or packet first tests the triangles that stopped the one before it (on, "
+                   "the default, where the structure can: the wide BVH), or only walks the tree (off: the structure "
+                   "alone); the answers are the same")
+        ->check(CLI::IsMember({"on", "off"}));
     app.add_option("--paired", args.paired,
                    "partners rows are timed against run by run, comma separated: scalar (primary rows: the same "
                    "structure's single rays), bvh (primary rows: the BVH at the same traversal), embree (Embree's "

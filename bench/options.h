@@ -74,6 +74,9 @@ struct BenchOptions {
     /// --vs-single: packet rows of shadow and diffuse rays also time the same rays as single rays
     /// right after each run.
     bool vs_single = false;
+    /// --last-occluder: shadow rows test the occluder of the ray or packet before first
+    /// (StreamTraversal::last_occluder).
+    bool last_occluder = true;
     /// --paired: the partners rows of ours are timed against, each run by run.
     std::vector<PairPartner> paired;
     bool pairs_with(PairPartner partner) const {

@@ -412,12 +412,14 @@ private:
         // Diffuse rays are incoherent, as Embree's rtcIntersect1 takes them by default.
         const RayCoherence coherence = AnyHit ? RayCoherence::coherent : RayCoherence::incoherent;
         const StreamTraversal stream{width, AnyHit ? PacketGrouping::in_order : PacketGrouping::by_octant,
-                                     SlabTest::robust, coherence};
+                                     SlabTest::robust, coherence, options_.last_occluder};
         if (!AnyHit && width != SimdWidth::scalar) row.note = fmt::format("packets {}", to_string(stream.grouping));
+        if (AnyHit && !options_.last_occluder) row.note = "last occluder off";
         std::vector<Partner> partners;
         if (options_.vs_single && width != SimdWidth::scalar)
-            partners.push_back({{[&] { trace(partner_results, {.coherence = coherence}); }},
-                                &BenchRow::speedup_over_single_rays});
+            partners.push_back(
+                {{[&] { trace(partner_results, {.coherence = coherence, .last_occluder = options_.last_occluder}); }},
+                 &BenchRow::speedup_over_single_rays});
         if (AnyHit && options_.pairs_with(PairPartner::closest))
             partners.push_back({{[&] { intersect_stream_parallel(accel, rays, partner_secondary_hits_, stream); }},
                                 &BenchRow::paired_over_closest});

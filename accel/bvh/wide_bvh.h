@@ -83,6 +83,22 @@ public:
         return traverse<true, Test, Slabs>(ray, bvh::ChildRef::node_at(0), Hit{kNoTriangle, ray.tmax}, counters)
             .is_hit();
     }
+
+    /// occluded() for the rays of a list in turn, each a neighbour of the one before (a pixel
+    /// block's shadow rays): a ray first tests the block of triangles that stopped the ray before
+    /// it (`last`: LastOccluder in packet_kernels.h), and walks the tree only when that block lets
+    /// it through; `last` then names the block that stopped this ray, or none. The answer is
+    /// occluded()'s: a triangle the test hits lies in boxes the walk enters (robust slab test), so
+    /// the walk would find a hit too.
+    template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Counters>
+    bool occluded(const Ray& ray, Counters& counters, LastOccluder& last) const {
+        std::uint32_t stopped_by = last.id;
+        const bool hit = traverse<true, Test, Slabs>(ray, bvh::ChildRef::node_at(0), Hit{kNoTriangle, ray.tmax},
+                                                     counters, RayCoherence::coherent, &stopped_by)
+                             .is_hit();
+        last.id = hit ? stopped_by : LastOccluder::kNone;
+        return hit;
+    }
     Hit intersect(const Ray& ray) const {
         NoCounters c;
         return intersect<TriangleTest::watertight>(ray, c);
@@ -94,14 +110,17 @@ public:
 
     /// Ray packets (wide_packet.h): per live lane the single ray's hit bit for bit, or whether
     /// anything is hit. Subtrees that at most `single_ray_lanes` lanes need (by default 1) are
-    /// traced ray by ray. Instantiated in wide_bvh_packet_kernels.cpp: callers go through
-    /// PacketKernels (accel/packet_kernels.h).
+    /// traced ray by ray. Any hit with `last`: the block it names is tested first, and it names
+    /// the last block that stopped a lane of this packet, or none (as for single rays above).
+    /// Instantiated in wide_bvh_packet_kernels.cpp: callers go through PacketKernels
+    /// (accel/packet_kernels.h).
     template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters>
     void intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters,
                    int single_ray_lanes = kDefaultSingleRayLanes) const;
     template <TriangleTest Test, SlabTest Slabs = SlabTest::robust, class Arch, class Counters>
     typename RayPacket<Arch>::Mask occluded(const RayPacket<Arch>& rays, Counters& counters,
-                                            int single_ray_lanes = kDefaultSingleRayLanes) const;
+                                            int single_ray_lanes = kDefaultSingleRayLanes,
+                                            LastOccluder* last = nullptr) const;
 
     /// Whether the packet of the rays rays[index[0]], rays[index[1]], ... (traced ones, at most a
     /// packet's width) walks every lane alone from the root under the structure's own switch
@@ -119,22 +138,26 @@ public:
     /// The single-ray walk from `start` (the root: node 0) given the closest hit so far (`best`:
     /// kNoTriangle at the ray's tmax when none), which it returns improved. Counters: a
     /// visit_node per wide node whose boxes are tested, a test_triangle per real triangle of each
-    /// block tested (not the padding lanes).
+    /// block tested (not the padding lanes). Any hit with `stopped_by`: the block it names (unless
+    /// LastOccluder::kNone) is tested before the walk, and it names the block that stopped the ray.
     template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Counters>
     TRIDENT_FLATTEN Hit traverse(const Ray& ray, bvh::ChildRef start, Hit best, Counters& counters,
-                                 RayCoherence coherence = RayCoherence::coherent) const;
+                                 RayCoherence coherence = RayCoherence::coherent,
+                                 std::uint32_t* stopped_by = nullptr) const;
 
 private:
     template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
     typename RayPacket<Arch>::Mask traverse_packet(const RayPacket<Arch>& rays, HitPacket<Arch>& hits,
-                                                   Counters& counters, bvh::PacketSwitch to_single_rays) const;
+                                                   Counters& counters, bvh::PacketSwitch to_single_rays,
+                                                   std::uint32_t* stopped_by = nullptr) const;
 
     /// The lanes set in `lanes`, one by one with traverse() from `from`, each continuing from its
-    /// record in `hits`; returns the any-hit lanes that hit (none for closest hit).
+    /// record in `hits`, with `stopped_by` as traverse() takes it; returns the any-hit lanes that
+    /// hit (none for closest hit).
     template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
     typename RayPacket<Arch>::Mask trace_singly(const RayPacket<Arch>& rays, std::uint32_t lanes, bvh::ChildRef from,
-                                                HitPacket<Arch>& hits, Counters& counters,
-                                                RayCoherence coherence) const;
+                                                HitPacket<Arch>& hits, Counters& counters, RayCoherence coherence,
+                                                std::uint32_t* stopped_by = nullptr) const;
 
     /// Asks for a child's node, or its leaf's first block, to be brought into cache: a packet
     /// decides which children it enters well before it steps into them (Embree prefetches so), an
@@ -185,7 +208,7 @@ inline float triangle_limit(const Hit& best) { return best.is_hit() ? just_above
 template <std::size_t Width, std::size_t BlockSize>
 template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Counters>
 Hit WideBvh<Width, BlockSize>::traverse(const Ray& ray, bvh::ChildRef start, Hit best, Counters& counters,
-                                        RayCoherence coherence) const {
+                                        RayCoherence coherence, std::uint32_t* stopped_by) const {
     using BlockFloat = xsimd::make_sized_batch_t<float, BlockSize>;
     using BlockLanes = Lanes<BlockFloat>;
     if (nodes_.empty()) return best;
@@ -199,6 +222,47 @@ Hit WideBvh<Width, BlockSize>::traverse(const Ray& ray, bvh::ChildRef start, Hit
     }();
     std::array<int, 3> ray_axes{0, 1, 2};  // the watertight test's x, y, z: rows of a block's corners
     if constexpr (Test == TriangleTest::watertight) ray_axes = block_test.ray_axes();
+    // Block b against the ray: whether a triangle of it is hit, the best hit improved by it.
+    const auto test_block = [&](std::uint32_t b) {
+        const Block& block = blocks_[b];
+        const auto load = [&](const float(&corner)[3][BlockSize], const std::array<int, 3>& rows) {
+            return Vec3T<BlockFloat>(BlockFloat::load_aligned(corner[rows[0]]),
+                                     BlockFloat::load_aligned(corner[rows[1]]),
+                                     BlockFloat::load_aligned(corner[rows[2]]));
+        };
+        constexpr std::array<int, 3> kAsStored{0, 1, 2};
+        constexpr auto kZeroArea = ZeroAreaTriangles::left_out_by_caller;
+        const BlockFloat limit(bvh::triangle_limit(best));
+        TriangleHitT<BlockFloat> h{BlockFloat(0.0f), BlockFloat(0.0f), BlockFloat(0.0f)};  // read where hit only
+        const auto hit = [&] {
+            if constexpr (Test == TriangleTest::watertight) {
+                // The corners loaded in the ray's axes (its rows picked once a ray); the rare
+                // checks in double read them again as stored.
+                const auto as_stored = [&] {
+                    return std::array{load(block.a, kAsStored), load(block.b, kAsStored), load(block.c, kAsStored)};
+                };
+                return block_test.template intersect_in_ray_axes<kZeroArea>(
+                    load(block.a, ray_axes), load(block.b, ray_axes), load(block.c, ray_axes), limit, h, as_stored);
+            } else {
+                return block_test.template intersect<kZeroArea>(load(block.a, kAsStored), load(block.b, kAsStored),
+                                                                load(block.c, kAsStored), limit, h);
+            }
+        }();
+        std::uint32_t lanes = BlockLanes::bits(hit);
+        if (lanes == 0) return false;
+        const auto t = BlockLanes::to_array(h.t), u = BlockLanes::to_array(h.u), v = BlockLanes::to_array(h.v);
+        for (; lanes != 0; lanes &= lanes - 1) {
+            const int k = std::countr_zero(lanes);
+            if (bvh::beats(t[k], block.id[k], best)) best = {block.id[k], t[k], u[k], v[k]};
+        }
+        return true;
+    };
+    if constexpr (AnyHit) {
+        if (stopped_by != nullptr && *stopped_by != LastOccluder::kNone) {
+            for (std::size_t k = 0; k < BlockSize; ++k) counters.test_triangle();
+            if (test_block(*stopped_by)) return best;
+        }
+    }
     struct StackEntry {
         bvh::ChildRef ref;
         float t_entry;
@@ -257,44 +321,16 @@ Hit WideBvh<Width, BlockSize>::traverse(const Ray& ray, bvh::ChildRef start, Hit
         } else {
             const std::uint32_t end = current.first_block() + current.template block_count<BlockSize>();
             std::uint32_t remaining = current.triangle_count();
-            TriangleHitT<BlockFloat> h{BlockFloat(0.0f), BlockFloat(0.0f), BlockFloat(0.0f)};  // read where hit only
             for (std::uint32_t b = current.first_block(); b != end; ++b) {
-                const Block& block = blocks_[b];
                 for (std::uint32_t k = 0; k < std::min<std::uint32_t>(remaining, BlockSize); ++k)
                     counters.test_triangle();
                 remaining -= std::min<std::uint32_t>(remaining, BlockSize);
-                const auto load = [&](const float(&corner)[3][BlockSize], const std::array<int, 3>& rows) {
-                    return Vec3T<BlockFloat>(BlockFloat::load_aligned(corner[rows[0]]),
-                                             BlockFloat::load_aligned(corner[rows[1]]),
-                                             BlockFloat::load_aligned(corner[rows[2]]));
-                };
-                constexpr std::array<int, 3> kAsStored{0, 1, 2};
-                constexpr auto kZeroArea = ZeroAreaTriangles::left_out_by_caller;
-                const BlockFloat limit(bvh::triangle_limit(best));
-                const auto hit = [&] {
-                    if constexpr (Test == TriangleTest::watertight) {
-                        // The corners loaded in the ray's axes (its rows picked once a ray); the
-                        // rare checks in double read them again as stored.
-                        const auto as_stored = [&] {
-                            return std::array{load(block.a, kAsStored), load(block.b, kAsStored),
-                                              load(block.c, kAsStored)};
-                        };
-                        return block_test.template intersect_in_ray_axes<kZeroArea>(
-                            load(block.a, ray_axes), load(block.b, ray_axes), load(block.c, ray_axes), limit, h,
-                            as_stored);
-                    } else {
-                        return block_test.template intersect<kZeroArea>(
-                            load(block.a, kAsStored), load(block.b, kAsStored), load(block.c, kAsStored), limit, h);
+                if (test_block(b)) {
+                    if constexpr (AnyHit) {
+                        if (stopped_by != nullptr) *stopped_by = b;
+                        return best;
                     }
-                }();
-                std::uint32_t lanes = BlockLanes::bits(hit);
-                if (lanes == 0) continue;
-                const auto t = BlockLanes::to_array(h.t), u = BlockLanes::to_array(h.u), v = BlockLanes::to_array(h.v);
-                for (; lanes != 0; lanes &= lanes - 1) {
-                    const int k = std::countr_zero(lanes);
-                    if (bvh::beats(t[k], block.id[k], best)) best = {block.id[k], t[k], u[k], v[k]};
                 }
-                if constexpr (AnyHit) return best;
             }
         }
         for (;;) {  // pop the next node that can still hold a closer hit

@@ -152,18 +152,19 @@ void WideBvh<Width, BlockSize>::intersect(const RayPacket<Arch>& rays, HitPacket
 template <std::size_t Width, std::size_t BlockSize>
 template <TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
 typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::occluded(const RayPacket<Arch>& rays, Counters& counters,
-                                                                   int single_ray_lanes) const {
+                                                                   int single_ray_lanes, LastOccluder* last) const {
     HitPacket<Arch> limits(rays);
     return traverse_packet<true, Test, Slabs>(rays, limits, counters,
-                                              wide_packet_switch(rays, single_ray_lanes, blocks_.size()));
+                                              wide_packet_switch(rays, single_ray_lanes, blocks_.size()),
+                                              last != nullptr ? &last->id : nullptr);
 }
 
 template <std::size_t Width, std::size_t BlockSize>
 template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
 typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::trace_singly(const RayPacket<Arch>& rays, std::uint32_t lanes,
                                                                        bvh::ChildRef from, HitPacket<Arch>& hits,
-                                                                       Counters& counters,
-                                                                       RayCoherence coherence) const {
+                                                                       Counters& counters, RayCoherence coherence,
+                                                                       std::uint32_t* stopped_by) const {
     using Float = typename RayPacket<Arch>::Float;
     using Mask = typename RayPacket<Arch>::Mask;
     using L = Lanes<Float>;
@@ -181,7 +182,7 @@ typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::trace_singly(const Ray
         const int i = std::countr_zero(lanes);
         const Ray ray{{ox[i], oy[i], oz[i]}, {dx[i], dy[i], dz[i]}, tmin[i], tmax[i]};
         const Hit so_far = ids[i] == kNoTriangle ? Hit{kNoTriangle, t[i]} : Hit{ids[i], t[i], u[i], v[i]};
-        const Hit hit = traverse<AnyHit, Test, Slabs>(ray, from, so_far, counters, coherence);
+        const Hit hit = traverse<AnyHit, Test, Slabs>(ray, from, so_far, counters, coherence, stopped_by);
         if (!hit.is_hit()) continue;
         const Mask lane = lane_index == Float(float(i));
         if constexpr (AnyHit) found = found | lane;
@@ -197,7 +198,8 @@ typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::trace_singly(const Ray
 template <std::size_t Width, std::size_t BlockSize>
 template <bool AnyHit, TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
 TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traverse_packet(
-    const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters, bvh::PacketSwitch to_single_rays) const {
+    const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters, bvh::PacketSwitch to_single_rays,
+    std::uint32_t* stopped_by) const {
     using Float = typename RayPacket<Arch>::Float;
     using Mask = typename RayPacket<Arch>::Mask;
     const int single_ray_lanes = to_single_rays.single_ray_lanes;
@@ -207,13 +209,31 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
     const RayCoherence coherence = to_single_rays.coherence;
     assert(single_ray_lanes >= 0 && std::size_t(single_ray_lanes) <= RayPacket<Arch>::width);
 
-    const Mask live = rays.active & (rays.tmin <= rays.tmax);
+    Mask live = rays.active & (rays.tmin <= rays.tmax);
     Mask blocked(false);  // any-hit lanes that have hit
     if (nodes_.empty() || !xsimd::any(live)) return blocked;
+    // Any hit: the block that stopped a lane of the packet before, tested against every lane
+    // first (LastOccluder); `stopped_by` then names the last block that stops a lane here.
+    if constexpr (AnyHit) {
+        const std::uint32_t first_block = stopped_by != nullptr ? *stopped_by : LastOccluder::kNone;
+        if (first_block != LastOccluder::kNone) {
+            *stopped_by = LastOccluder::kNone;
+            const auto intersector = packet_intersector<Test>(rays);
+            Mask lanes = live;
+            for (std::size_t k = 0; k < BlockSize && xsimd::any(lanes); ++k) {
+                counters.test_triangle();
+                lanes =
+                    bvh::test_triangle_lanes<true>(intersector, blocks_[first_block], k, rays, hits, lanes, blocked);
+            }
+            if (xsimd::any(blocked)) *stopped_by = first_block;
+            live = live & !blocked;
+            if (!xsimd::any(live)) return blocked;
+        }
+    }
     // Lanes that all go alone from the root need none of the packet's bounds and precomputation.
     if (simd::active_lane_count(live) <= single_ray_lanes)
-        return trace_singly<AnyHit, Test, Slabs>(rays, simd::mask_bits(live), bvh::ChildRef::node_at(0), hits, counters,
-                                                 coherence);
+        return blocked | trace_singly<AnyHit, Test, Slabs>(rays, simd::mask_bits(live), bvh::ChildRef::node_at(0), hits,
+                                                           counters, coherence, stopped_by);
     const auto intersector = packet_intersector<Test>(rays);
     const Float inf(kInfinity);
     // Packets of one octant first test a node's children against all their lanes at once
@@ -316,17 +336,21 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
             std::uint32_t remaining = current.triangle_count();
             for (std::uint32_t b = current.first_block(); remaining != 0; ++b) {
                 const Block& block = blocks_[b];
+                [[maybe_unused]] const Mask was_blocked = blocked;
                 for (std::uint32_t k = 0; k < BlockSize && remaining != 0; ++k, --remaining) {
                     counters.test_triangle();
                     lanes = bvh::test_triangle_lanes<AnyHit>(intersector, block, k, rays, hits, lanes, blocked);
                     if (AnyHit && !xsimd::any(lanes)) break;
                 }
+                if constexpr (AnyHit)
+                    if (stopped_by != nullptr && xsimd::any(blocked & !was_blocked)) *stopped_by = b;
                 if (AnyHit && !xsimd::any(lanes)) break;
             }
             if (group) group_t_max = largest_t();
         }
         if (alone != 0)
-            blocked = blocked | trace_singly<AnyHit, Test, Slabs>(rays, alone, current, hits, counters, coherence);
+            blocked = blocked |
+                      trace_singly<AnyHit, Test, Slabs>(rays, alone, current, hits, counters, coherence, stopped_by);
         for (;;) {  // pop the next node some lane still needs
             if (stack_size == 0) return blocked;
             --stack_size;

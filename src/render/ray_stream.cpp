@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/traversal_variant.h"
+#include "render/occlude_in_order.h"
 #include "render/render_kernels.h"
 
 namespace trident {
@@ -20,11 +21,11 @@ using Result = std::conditional_t<AnyHit, std::uint8_t, Hit>;
 /// the CPU (and the cap) allow in the portable build, else in the baseline's.
 template <bool AnyHit, class Structure>
 void trace_single_rays(const Structure& structure, std::span<const Ray> rays, std::span<Result<AnyHit>> out,
-                       TriangleTest test, SlabTest slabs, RayCoherence coherence) {
+                       TriangleTest test, SlabTest slabs, RayCoherence coherence, bool last_occluder) {
     const bool in_kernel_file = in_widest_kernel_file([&]<SimdWidth File>() {
         using FileKernels = SingleRayKernels<Structure, File>;
         if constexpr (AnyHit)
-            FileKernels::occlude_rays(structure, rays, out, test, slabs);
+            FileKernels::occlude_rays(structure, rays, out, test, slabs, last_occluder);
         else
             FileKernels::intersect_rays(structure, rays, out, test, slabs, coherence);
     });
@@ -32,28 +33,30 @@ void trace_single_rays(const Structure& structure, std::span<const Ray> rays, st
     with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
         constexpr TriangleTest kTest = decltype(test_tag)::value;
         constexpr SlabTest kSlabs = decltype(slabs_tag)::value;
-        for (std::size_t i = 0; i < rays.size(); ++i) {
-            NoCounters counters;
-            if constexpr (AnyHit)
-                out[i] = is_traced(rays[i]) && structure.template occluded<kTest, kSlabs>(rays[i], counters);
-            else
+        if constexpr (AnyHit) {
+            occlude_in_order<kTest, kSlabs>(structure, rays, out, last_occluder);
+        } else {
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+                NoCounters counters;
                 out[i] = is_traced(rays[i]) ? intersect_hinted<kTest, kSlabs>(structure, rays[i], counters, coherence)
                                             : Hit{};
+            }
         }
     });
 }
 
 /// The packet of the rays at `index` (at most the width's lanes) gathered and traced by the packet
-/// walk in the kernel file of width `File`, its results written to out[index[k]].
+/// walk in the kernel file of width `File`, its results written to out[index[k]]; shadow packets
+/// carry `last` (if any) from packet to packet (LastOccluder).
 template <bool AnyHit, SimdWidth Width, SimdWidth File, class Structure>
 void walk_packet(const Structure& structure, std::span<const Ray> rays, std::span<const std::size_t> index,
-                 std::span<Result<AnyHit>> out, PacketVariant variant) {
+                 std::span<Result<AnyHit>> out, PacketVariant variant, LastOccluder* last) {
     using Kernels = RenderKernels<Structure, Width, File>;
     std::array<Ray, Kernels::kLanes> lane_rays;
     for (std::size_t k = 0; k < index.size(); ++k) lane_rays[k] = rays[index[k]];
     const std::span<const Ray> packet(lane_rays.data(), index.size());
     if constexpr (AnyHit) {
-        const std::uint32_t bits = Kernels::occlude_rays(structure, packet, variant);
+        const std::uint32_t bits = Kernels::occlude_rays(structure, packet, variant, last);
         for (std::size_t k = 0; k < index.size(); ++k) out[index[k]] = (bits >> k) & 1u;
     } else {
         std::array<Hit, Kernels::kLanes> lane_hits;
@@ -71,7 +74,7 @@ void walk_packet(const Structure& structure, std::span<const Ray> rays, std::spa
 /// result is the same in any order.
 template <bool AnyHit, SimdWidth Width, SimdWidth File, class Structure>
 void trace_packets(const Structure& structure, std::span<const Ray> rays, std::span<Result<AnyHit>> out,
-                   PacketGrouping grouping, PacketVariant variant) {
+                   PacketGrouping grouping, PacketVariant variant, bool last_occluder) {
     for (std::size_t i = 0; i < rays.size(); ++i)
         if (!is_traced(rays[i])) out[i] = Result<AnyHit>{};
     constexpr bool kMayGoAlone = requires(std::span<const std::size_t> index) {
@@ -84,6 +87,8 @@ void trace_packets(const Structure& structure, std::span<const Ray> rays, std::s
     thread_local std::vector<std::uint8_t> alone;
     if (may_go_alone) alone.assign(rays.size(), 0);
     bool any_alone = false;
+    LastOccluder last;
+    LastOccluder* const carried = last_occluder ? &last : nullptr;
     for_each_stream_packet(rays, lane_count(Width), grouping, [&](std::span<const std::size_t> index) {
         if constexpr (kMayGoAlone) {
             if (may_go_alone && structure.packet_walks_lanes_alone(rays, index)) {
@@ -92,7 +97,7 @@ void trace_packets(const Structure& structure, std::span<const Ray> rays, std::s
                 return;
             }
         }
-        walk_packet<AnyHit, Width, File>(structure, rays, index, out, variant);
+        walk_packet<AnyHit, Width, File>(structure, rays, index, out, variant, carried);
     });
     if (!any_alone) return;
     for (std::size_t i = 0; i < rays.size();) {
@@ -103,7 +108,7 @@ void trace_packets(const Structure& structure, std::span<const Ray> rays, std::s
         std::size_t end = i + 1;
         while (end < rays.size() && (alone[end] || !is_traced(rays[end]))) ++end;
         trace_single_rays<AnyHit>(structure, rays.subspan(i, end - i), out.subspan(i, end - i), variant.test,
-                                  variant.slabs, RayCoherence::incoherent);
+                                  variant.slabs, RayCoherence::incoherent, last_occluder);
         i = end;
     }
 }
@@ -114,7 +119,8 @@ void trace_stream(const AnyAccel& accel, std::span<const Ray> rays, std::span<Re
     // Single rays take the variant as template arguments; the packet kernels take it at run time.
     if (traversal.width == SimdWidth::scalar) {
         accel.visit([&](const auto& structure) {
-            trace_single_rays<AnyHit>(structure, rays, out, test, traversal.slabs, traversal.coherence);
+            trace_single_rays<AnyHit>(structure, rays, out, test, traversal.slabs, traversal.coherence,
+                                      traversal.last_occluder);
         });
         return;
     }
@@ -122,7 +128,7 @@ void trace_stream(const AnyAccel& accel, std::span<const Ray> rays, std::span<Re
     accel.visit([&](const auto& structure) {
         // In the portable build, in the widest kernel file the CPU (and the cap) allow.
         dispatch_packet_width(traversal.width, [&]<SimdWidth W, SimdWidth File>() {
-            trace_packets<AnyHit, W, File>(structure, rays, out, traversal.grouping, variant);
+            trace_packets<AnyHit, W, File>(structure, rays, out, traversal.grouping, variant, traversal.last_occluder);
         });
     });
 }

@@ -25,6 +25,10 @@ struct StreamTraversal {
     PacketGrouping grouping = PacketGrouping::in_order;
     SlabTest slabs = SlabTest::robust;
     RayCoherence coherence = RayCoherence::coherent;
+    /// Any hit: each ray, or packet, of a list first tests the occluder that stopped the one
+    /// before, where the structure can (LastOccluder, accel/packet_kernels.h). Off, the rays are
+    /// answered by the walk alone (to measure the structure by itself); the answers are the same.
+    bool last_occluder = true;
 };
 
 /// Any-hit: occluded[i] = 1 when rays[i] hits anything in [tmin, tmax]. Throws std::runtime_error

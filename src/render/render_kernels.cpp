@@ -7,6 +7,7 @@
 #include "accel/any_accel.h"
 #include "core/traversal_variant.h"
 #include "render/array_packets.h"
+#include "render/occlude_in_order.h"
 #include "render/primary_packets.h"
 #include "render/stream_packets.h"
 #include "simd/kernel_arch.h"
@@ -78,11 +79,11 @@ void RenderKernels<Structure, Width, File>::intersect_rays(const Structure& stru
 
 template <class Structure, SimdWidth Width, SimdWidth File>
 std::uint32_t RenderKernels<Structure, Width, File>::occlude_rays(const Structure& structure, std::span<const Ray> rays,
-                                                                  PacketVariant variant) {
+                                                                  PacketVariant variant, LastOccluder* last) {
     static_assert(kDefinedHere<Width, File>);
     const RayPacket<PacketArchInFile<Width>> packet(rays);
     NoCounters counters;
-    return simd::mask_bits(occlude_packet(structure, packet, counters, variant));
+    return simd::mask_bits(occlude_packet(structure, packet, counters, variant, last));
 }
 
 template <class Structure, SimdWidth Width, SimdWidth File>
@@ -157,14 +158,11 @@ template <class Structure, SimdWidth File>
 [[gnu::flatten]] void SingleRayKernels<Structure, File>::occlude_rays(const Structure& structure,
                                                                       std::span<const Ray> rays,
                                                                       std::span<std::uint8_t> occluded,
-                                                                      TriangleTest test, SlabTest slabs) {
+                                                                      TriangleTest test, SlabTest slabs,
+                                                                      bool last_occluder) {
     with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
-        for (std::size_t i = 0; i < rays.size(); ++i) {
-            NoCounters counters;
-            occluded[i] =
-                is_traced(rays[i]) &&
-                structure.template occluded<decltype(test_tag)::value, decltype(slabs_tag)::value>(rays[i], counters);
-        }
+        occlude_in_order<decltype(test_tag)::value, decltype(slabs_tag)::value>(structure, rays, occluded,
+                                                                                last_occluder);
     });
 }
 

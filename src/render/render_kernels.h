@@ -41,7 +41,8 @@ struct RenderKernels {
     /// as bits (lane k is bit k).
     static void intersect_rays(const Structure& structure, std::span<const Ray> rays, std::span<Hit> hits,
                                PacketVariant variant);
-    static std::uint32_t occlude_rays(const Structure& structure, std::span<const Ray> rays, PacketVariant variant);
+    static std::uint32_t occlude_rays(const Structure& structure, std::span<const Ray> rays, PacketVariant variant,
+                                      LastOccluder* last = nullptr);
     /// The tile's rays of an image of rays in arrays, packet block by packet block: the closest
     /// hits, or the occluded rays as 1, written to out[image.index(x, y)]. False, some of the
     /// tile's results written, at the first packet holding a ray that cannot be traced.
@@ -66,7 +67,7 @@ struct SingleRayKernels {
     static void intersect_rays(const Structure& structure, std::span<const Ray> rays, std::span<Hit> hits,
                                TriangleTest test, SlabTest slabs, RayCoherence coherence);
     static void occlude_rays(const Structure& structure, std::span<const Ray> rays, std::span<std::uint8_t> occluded,
-                             TriangleTest test, SlabTest slabs);
+                             TriangleTest test, SlabTest slabs, bool last_occluder);
     /// RenderKernels' array tiles, one ray at a time (trace_tile_singly).
     static bool intersect_array_tile(const Structure& structure, const RayImage& image, const ImageTile& tile,
                                      Hit* out, TriangleTest test, SlabTest slabs);

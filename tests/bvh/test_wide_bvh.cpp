@@ -178,6 +178,49 @@ void check_packets(const WideBvh<Width, BlockSize>& wide, std::span<const Ray> r
     });
 }
 
+/// Shadow rays with the last occluder tried first (LastOccluder), carried from ray to ray and from
+/// packet to packet, or set to a block at random before each: the answers stay occluded()'s lane
+/// for lane, and after a single ray it names a block (one of the tree's) exactly when that ray was
+/// stopped.
+template <std::size_t Width, std::size_t BlockSize>
+void check_last_occluder(const WideBvh<Width, BlockSize>& wide, std::span<const Ray> rays) {
+    REQUIRE_FALSE(wide.blocks().empty());
+    NoCounters none;
+    std::mt19937 rng(71);
+    std::uniform_int_distribution<std::uint32_t> any_block(0, std::uint32_t(wide.blocks().size() - 1));
+    std::size_t stopped = 0;
+    for (const bool at_random : {false, true}) {
+        CAPTURE(at_random);
+        LastOccluder last;
+        std::size_t differ = 0, named_wrongly = 0;
+        for (const Ray& ray : rays) {
+            if (at_random) last.id = any_block(rng);
+            const bool got = wide.template occluded<TriangleTest::watertight>(ray, none, last);
+            differ += got != wide.occluded(ray);
+            named_wrongly += got != (last.id != LastOccluder::kNone) ||
+                             (last.id != LastOccluder::kNone && last.id >= wide.blocks().size());
+            stopped += got;
+        }
+        CHECK(differ == 0);
+        CHECK(named_wrongly == 0);
+        for_each_packet_arch([&]<class Arch>() {
+            LastOccluder carried;
+            compare_packet_lanes<Arch>(
+                rays, 0, {},
+                [&](const RayPacket<Arch>& packet, HitPacket<Arch>& hits) {
+                    intersect_packet(wide, packet, hits, none);
+                    if (at_random) carried.id = any_block(rng);
+                    const auto bits = simd::mask_bits(occlude_packet(wide, packet, none, PacketVariant{}, &carried));
+                    CHECK((carried.id == LastOccluder::kNone || carried.id < wide.blocks().size()));
+                    return bits;
+                },
+                [&](const Ray& ray) { return wide.intersect(ray); }, [&](const Ray& ray) { return wide.occluded(ray); })
+                .require_agreement();
+        });
+    }
+    CHECK(stopped > rays.size() / 4);  // the rays exercise the cache
+}
+
 /// Every shipped width and block size, one body.
 template <class Body>
 void for_each_wide_tree(const Mesh& mesh, const BvhOptions& options, Body&& body) {
@@ -484,6 +527,16 @@ TEST_CASE(
         // Lanes past the rays copy the first ray and count for nothing.
         CHECK(bvh::directions_within_cone(packet_turned_by(20.0f, 2), kCoherentCosine));
     });
+}
+
+TEST_CASE("the last occluder tried first changes no shadow ray's answer, whatever block it names") {
+    const Mesh soup = random_soup(700, 81, 0.15f);
+    std::vector<Ray> rays = random_rays(soup.bounds(), 300, 82);
+    for (const Ray& r : windowed_rays_from_inside(soup.bounds(), 300, 83)) rays.push_back(r);
+    for (const Ray& r : rays_from_one_point(soup.bounds(), 320, 84)) rays.push_back(r);
+    for_each_wide_tree(soup, {}, [&](const auto& wide) { check_last_occluder(wide, rays); });
+    const Mesh lattice = axis_lattice();  // rays along faces and edges shared by neighbours
+    for_each_wide_tree(lattice, {}, [&](const auto& wide) { check_last_occluder(wide, rays_on_lattice_planes()); });
 }
 
 TEST_CASE("the cone test gives the same answer over a packet's lanes and over the rays it is built from") {
