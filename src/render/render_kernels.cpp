@@ -109,9 +109,10 @@ bool RenderKernels<Structure, Width, File>::occlude_array_tile(const Structure& 
                                                                PacketVariant variant) {
     static_assert(kDefinedHere<Width, File>);
     const ArrayTile<PacketArchInFile<Width>> blocks(image, tile);
+    LastOccluder last;  // carried from block to block of the tile
     return blocks.for_each_block([&](const auto& packet, const auto& block) {
         NoCounters counters;
-        const std::uint32_t bits = simd::mask_bits(occlude_packet(structure, packet, counters, variant));
+        const std::uint32_t bits = simd::mask_bits(occlude_packet(structure, packet, counters, variant, &last));
         std::array<std::uint8_t, kLanes> lanes;
         for (std::size_t k = 0; k < kLanes; ++k) lanes[k] = (bits >> k) & 1u;
         blocks.store(block, lanes, out);

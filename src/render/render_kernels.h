@@ -77,19 +77,23 @@ struct SingleRayKernels {
 
 /// The tile's rays of an image of rays in arrays one at a time (trace_tile_singly), each through
 /// the structure's single-ray walk with `test` and `slabs`: the closest hits, or the occluded rays
-/// as 1 (AnyHit). For SingleRayKernels' kernel files and the baseline's own single rays alike.
+/// as 1 (AnyHit), any hit with the last occluder tried first where the structure can
+/// (LastOccluder). For SingleRayKernels' kernel files and the baseline's own single rays alike.
 template <bool AnyHit, class Structure, class Result>
 bool trace_array_tile_singly(const Structure& structure, const RayImage& image, const ImageTile& tile, Result* out,
                              TriangleTest test, SlabTest slabs) {
     return with_traversal_variant(test, slabs, [&](auto test_tag, auto slabs_tag) {
         constexpr TriangleTest kTest = decltype(test_tag)::value;
         constexpr SlabTest kSlabs = decltype(slabs_tag)::value;
+        [[maybe_unused]] LastOccluder last;
         return trace_tile_singly(image, tile, out, [&](const Ray& ray) {
             NoCounters counters;
-            if constexpr (AnyHit)
-                return std::uint8_t(structure.template occluded<kTest, kSlabs>(ray, counters));
-            else
+            if constexpr (!AnyHit)
                 return structure.template intersect<kTest, kSlabs>(ray, counters);
+            else if constexpr (requires { structure.template occluded<kTest, kSlabs>(ray, counters, last); })
+                return std::uint8_t(structure.template occluded<kTest, kSlabs>(ray, counters, last));
+            else
+                return std::uint8_t(structure.template occluded<kTest, kSlabs>(ray, counters));
         });
     });
 }
