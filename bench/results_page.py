@@ -275,7 +275,9 @@ def embree_section(runs):
            "same width (diffuse packets: rtcIntersect1). A cell holds one figure per thread count. A plain figure "
            "is paired (`--paired embree`: each render followed by Embree's on the same rays, the median of the "
            "pairs' ratios); a figure marked * is the ratio of the two rows' medians, taken minutes apart, for "
-           "rows the run did not pair."]
+           "rows the run did not pair. The wide BVH's shadow rows test the block of triangles that stopped the "
+           "ray (or packet) before each ray first, as the renderer traces them (`--last-occluder`, "
+           "bench/README.md), which Embree's rtcOccluded calls do not; the other structures' rows only walk."]
     for kind in KINDS:
         run = runs.run_for(kind)
         if run is None or not any(r.get("paired_over_embree") is not None or r.get("ratio_to_embree") is not None
