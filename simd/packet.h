@@ -39,6 +39,9 @@ struct RayPacket {
     /// Lane i holds rays[i]; 1 <= rays.size() <= width. Lanes past the count are inactive and
     /// copy the first ray's origin and direction, so they hold no NaN and keep its octant.
     explicit RayPacket(std::span<const Ray> rays) : RayPacket(simd::RayLanes<Arch>(rays)) {}
+    /// Lane i holds rays[index[i]]; 1 <= index.size() <= width.
+    RayPacket(std::span<const Ray> rays, std::span<const std::size_t> index)
+        : RayPacket(simd::RayLanes<Arch>(rays, index)) {}
 
     /// Rays already in lanes: those of `live` from `origins` along `dirs` over [tmins, tmaxs];
     /// the other lanes become inactive ([+inf, -inf]) and must hold finite origins and directions.

@@ -33,10 +33,20 @@ struct RayLanes {
 
     // The wider branches are compiled only where their instruction set is (the portable build
     // compiles this header for each kernel file's own), and only such files make their batches.
-    explicit RayLanes(std::span<const Ray> rays) : live(first_lanes(rays.size())) {
-        assert(!rays.empty() && rays.size() <= width);
+    explicit RayLanes(std::span<const Ray> rays) : RayLanes(rays.size(), [&](std::size_t i) { return &rays[i]; }) {}
+
+    /// Lane i from rays[index[i]], read where the rays lie: a stream's packet, whose rays copied
+    /// into a packet's array first would be stored and loaded again.
+    RayLanes(std::span<const Ray> rays, std::span<const std::size_t> index)
+        : RayLanes(index.size(), [&](std::size_t i) { return &rays[index[i]]; }) {}
+
+private:
+    /// Lane i from *ray_at(i), i < count.
+    template <class RayAt>
+    RayLanes(std::size_t count, RayAt&& ray_at) : live(first_lanes(count)) {
+        assert(count != 0 && count <= width);
         // Ray i's eight floats (the static_assert above), ray 0's past the count.
-        const auto ray = [&](std::size_t i) { return reinterpret_cast<const float*>(&rays[i < rays.size() ? i : 0]); };
+        const auto ray = [&](std::size_t i) { return reinterpret_cast<const float*>(ray_at(i < count ? i : 0)); };
         if constexpr (kHasMaskRegisters<Arch>) {
             static_assert(width == 16);
             // Rays j and j + 8 share register j; the 8 x 8 transpose within each 256-bit half
@@ -105,7 +115,6 @@ struct RayLanes {
         }
     }
 
-private:
     static Mask first_lanes(std::size_t count) { return lane_indices<Arch>() < Float(float(count)); }
 };
 

@@ -45,60 +45,29 @@ void trace_single_rays(const Structure& structure, std::span<const Ray> rays, st
     });
 }
 
-/// The packet of the rays at `index` (at most the width's lanes) gathered and traced by the packet
-/// walk in the kernel file of width `File`, its results written to out[index[k]]; shadow packets
-/// carry `last` (if any) from packet to packet (LastOccluder).
-template <bool AnyHit, SimdWidth Width, SimdWidth File, class Structure>
-void walk_packet(const Structure& structure, std::span<const Ray> rays, std::span<const std::size_t> index,
-                 std::span<Result<AnyHit>> out, PacketVariant variant, LastOccluder* last) {
-    using Kernels = RenderKernels<Structure, Width, File>;
-    std::array<Ray, Kernels::kLanes> lane_rays;
-    for (std::size_t k = 0; k < index.size(); ++k) lane_rays[k] = rays[index[k]];
-    const std::span<const Ray> packet(lane_rays.data(), index.size());
-    if constexpr (AnyHit) {
-        const std::uint32_t bits = Kernels::occlude_rays(structure, packet, variant, last);
-        for (std::size_t k = 0; k < index.size(); ++k) out[index[k]] = (bits >> k) & 1u;
-    } else {
-        std::array<Hit, Kernels::kLanes> lane_hits;
-        Kernels::intersect_rays(structure, packet, std::span(lane_hits.data(), index.size()), variant);
-        for (std::size_t k = 0; k < index.size(); ++k) out[index[k]] = lane_hits[k];
-    }
-}
-
-/// The rays cut into packets as `grouping` says, each traced by the packet walk, except those
-/// whose lanes would all walk alone from the root (the wide BVH's incoherent packets over a large
-/// tree): these are only marked, from the rays where they lie, and traced afterwards as the
-/// single rays they would become, run by run in list order. Building such a packet, taking it
-/// apart and scattering its hits cost Bunny's diffuse rays 9% over the single rays' time, and
-/// gathering its rays to ask another 4% (perf, bench/experiments/bvh-traversal.md). Every ray's
-/// result is the same in any order.
+/// The rays cut into packets as `grouping` says, each traced by the packet walk in the kernel file
+/// of width `File` (RenderKernels' stream loop), except those whose lanes would all walk alone
+/// from the root (the wide BVH's incoherent packets over a large tree): these are only marked,
+/// from the rays where they lie, and traced afterwards as the single rays they would become, run
+/// by run in list order. Building such a packet, taking it apart and scattering its hits cost
+/// Bunny's diffuse rays 9% over the single rays' time, and gathering its rays to ask another 4%
+/// (perf, bench/experiments/bvh-traversal.md). Every ray's result is the same in any order.
 template <bool AnyHit, SimdWidth Width, SimdWidth File, class Structure>
 void trace_packets(const Structure& structure, std::span<const Ray> rays, std::span<Result<AnyHit>> out,
                    PacketGrouping grouping, PacketVariant variant, bool last_occluder) {
     for (std::size_t i = 0; i < rays.size(); ++i)
         if (!is_traced(rays[i])) out[i] = Result<AnyHit>{};
-    constexpr bool kMayGoAlone = requires(std::span<const std::size_t> index) {
-        structure.packet_walks_lanes_alone(rays, index);
-    };
-    const bool may_go_alone = kMayGoAlone && variant.single_ray_lanes == kDefaultSingleRayLanes;
     // 1 where a ray's packet goes alone. Untraced rays between such rays join their run: their
     // results are already written, and the single-ray loop skips them. One buffer per thread,
     // reused from chunk to chunk of the stream rather than allocated for each.
     thread_local std::vector<std::uint8_t> alone;
-    if (may_go_alone) alone.assign(rays.size(), 0);
-    bool any_alone = false;
-    LastOccluder last;
-    LastOccluder* const carried = last_occluder ? &last : nullptr;
-    for_each_stream_packet(rays, lane_count(Width), grouping, [&](std::span<const std::size_t> index) {
-        if constexpr (kMayGoAlone) {
-            if (may_go_alone && structure.packet_walks_lanes_alone(rays, index)) {
-                for (const std::size_t i : index) alone[i] = 1;
-                any_alone = true;
-                return;
-            }
-        }
-        walk_packet<AnyHit, Width, File>(structure, rays, index, out, variant, carried);
-    });
+    alone.assign(rays.size(), 0);
+    using Kernels = RenderKernels<Structure, Width, File>;
+    bool any_alone;
+    if constexpr (AnyHit)
+        any_alone = Kernels::occlude_stream(structure, rays, out, grouping, variant, last_occluder, alone);
+    else
+        any_alone = Kernels::intersect_stream(structure, rays, out, grouping, variant, alone);
     if (!any_alone) return;
     for (std::size_t i = 0; i < rays.size();) {
         if (!alone[i]) {

@@ -19,6 +19,7 @@
 #include "core/traversal_variant.h"
 #include "render/image_tiles.h"
 #include "render/ray_arrays.h"
+#include "render/stream_packets.h"
 #include "simd/width.h"
 
 namespace trident {
@@ -37,12 +38,20 @@ struct RenderKernels {
     /// Each of the tile's pixels gets its packet's counters (the robust slab test).
     static void count_primary_tile(const Structure& structure, const Camera& camera, const ImageTile& tile,
                                    std::span<TraversalCounters> counts, TriangleTest test);
-    /// One packet of `rays` (1 to kLanes, all traceable): the closest hits, or the occluded lanes
-    /// as bits (lane k is bit k).
-    static void intersect_rays(const Structure& structure, std::span<const Ray> rays, std::span<Hit> hits,
-                               PacketVariant variant);
-    static std::uint32_t occlude_rays(const Structure& structure, std::span<const Ray> rays, PacketVariant variant,
-                                      LastOccluder* last = nullptr);
+    /// A list of rays cut into packets as `grouping` says (for_each_stream_packet), each gathered,
+    /// walked and its results written to out[i]: the closest hits, or the occluded rays as 1, the
+    /// shadow packets carrying the last occluder from packet to packet when `last_occluder` is set
+    /// (LastOccluder). The whole loop is here, not only the walk, so that in the portable build the
+    /// gathers and scatters get the kernel file's instruction set too (the baseline's copy of the
+    /// loop cost Teapot's 16-lane shadow packets 4% against the native build, perf). Untraced rays'
+    /// results are not written. A packet whose lanes would all walk alone from the root (the wide
+    /// BVH's incoherent packets over a large tree, packet_walks_lanes_alone) is not built: its rays
+    /// get alone[i] = 1, for the caller to trace as single rays. Returns whether any did.
+    static bool intersect_stream(const Structure& structure, std::span<const Ray> rays, std::span<Hit> hits,
+                                 PacketGrouping grouping, PacketVariant variant, std::span<std::uint8_t> alone);
+    static bool occlude_stream(const Structure& structure, std::span<const Ray> rays, std::span<std::uint8_t> occluded,
+                               PacketGrouping grouping, PacketVariant variant, bool last_occluder,
+                               std::span<std::uint8_t> alone);
     /// The tile's rays of an image of rays in arrays, packet block by packet block: the closest
     /// hits, or the occluded rays as 1, written to out[image.index(x, y)]. False, some of the
     /// tile's results written, at the first packet holding a ray that cannot be traced.

@@ -84,6 +84,26 @@ TEST_CASE("a ray packet loads every count of rays, leaves the rest inactive and 
     });
 }
 
+TEST_CASE("a ray packet read through an index holds the indexed rays, as one built from their copies") {
+    for_each_packet_arch([]<class Arch>() {
+        constexpr std::size_t width = RayPacket<Arch>::width;
+        const std::vector<Ray> stream = distinct_rays(3 * width, 0);
+        for (std::size_t count = 1; count <= width; ++count) {
+            CAPTURE(count);
+            // Every third ray backwards from the end: an order unlike the stream's.
+            std::vector<std::size_t> index;
+            std::vector<Ray> copies;
+            for (std::size_t k = 0; k < count; ++k) {
+                index.push_back(stream.size() - 1 - 3 * k);
+                copies.push_back(stream[index.back()]);
+            }
+            const RayPacket<Arch> packet(stream, index);
+            check_lanes(packet, copies);
+            CHECK(packet.octant == RayPacket<Arch>(copies).octant);
+        }
+    });
+}
+
 TEST_CASE("a ray packet whose active lanes point into different octants has no shared octant") {
     for_each_packet_arch([]<class Arch>() {
         constexpr std::size_t width = RayPacket<Arch>::width;
