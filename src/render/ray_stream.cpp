@@ -1,7 +1,6 @@
 #include "render/ray_stream.h"
 
 #include <algorithm>
-#include <array>
 #include <stdexcept>
 #include <type_traits>
 #include <vector>
