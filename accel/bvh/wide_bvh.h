@@ -259,7 +259,11 @@ Hit WideBvh<Width, BlockSize>::traverse(const Ray& ray, bvh::ChildRef start, Hit
     };
     if constexpr (AnyHit) {
         if (stopped_by != nullptr && *stopped_by != LastOccluder::kNone) {
-            for (std::size_t k = 0; k < BlockSize; ++k) counters.test_triangle();
+            // Counted as the walk counts a block: its real triangles, not the lanes that repeat the
+            // last one (TriangleBlock).
+            const Block& block = blocks_[*stopped_by];
+            for (std::size_t k = 0; k < BlockSize; ++k)
+                if (k == 0 || block.id[k] != block.id[k - 1]) counters.test_triangle();
             if (test_block(*stopped_by)) return best;
         }
     }

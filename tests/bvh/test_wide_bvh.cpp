@@ -192,7 +192,7 @@ void check_last_occluder(const WideBvh<Width, BlockSize>& wide, std::span<const 
     for (const bool at_random : {false, true}) {
         CAPTURE(at_random);
         LastOccluder last;
-        std::size_t differ = 0, named_wrongly = 0;
+        std::size_t differ = 0, named_wrongly = 0, counted_wrongly = 0;
         for (const Ray& ray : rays) {
             if (at_random) last.id = any_block(rng);
             const bool got = wide.template occluded<TriangleTest::watertight>(ray, none, last);
@@ -200,9 +200,22 @@ void check_last_occluder(const WideBvh<Width, BlockSize>& wide, std::span<const 
             named_wrongly += got != (last.id != LastOccluder::kNone) ||
                              (last.id != LastOccluder::kNone && last.id >= wide.blocks().size());
             stopped += got;
+            if (got && last.id < wide.blocks().size()) {
+                // The same ray again stops at the block it names, counted as the walk counts a
+                // block: its real triangles, not the lanes repeating the last one.
+                const auto& ids = wide.blocks()[last.id].id;
+                const std::size_t real = 1 + std::size_t(std::count_if(ids + 1, ids + BlockSize, [&](const auto& id) {
+                                             return id != (&id)[-1];
+                                         }));
+                LastOccluder again = last;
+                TraversalCounters counted;
+                CHECK(wide.template occluded<TriangleTest::watertight>(ray, counted, again));
+                counted_wrongly += counted.triangles_tested != real || counted.nodes_visited != 0;
+            }
         }
         CHECK(differ == 0);
         CHECK(named_wrongly == 0);
+        CHECK(counted_wrongly == 0);
         for_each_packet_arch([&]<class Arch>() {
             LastOccluder carried;
             compare_packet_lanes<Arch>(
