@@ -413,7 +413,10 @@ private:
         const RayCoherence coherence = AnyHit ? RayCoherence::coherent : RayCoherence::incoherent;
         const StreamTraversal stream{width, AnyHit ? PacketGrouping::in_order : PacketGrouping::by_octant,
                                      SlabTest::robust, coherence, options_.last_occluder};
-        if (!AnyHit && width != SimdWidth::scalar) row.note = fmt::format("packets {}", to_string(stream.grouping));
+        if (stream_walks_rays_alone(accel, stream))
+            row.note = "incoherent rays over a large tree: every lane alone from the root, packets not cut";
+        else if (!AnyHit && width != SimdWidth::scalar)
+            row.note = fmt::format("packets {}", to_string(stream.grouping));
         if (AnyHit && !options_.last_occluder) row.note = "last occluder off";
         std::vector<Partner> partners;
         if (options_.vs_single && width != SimdWidth::scalar)

@@ -130,6 +130,11 @@ public:
         return bvh::lanes_walk_alone(rays, index, blocks_.size());
     }
 
+    /// Whether every incoherent packet walks its lanes alone from the root (a tree of at least
+    /// kIncoherentAloneMinBlocks blocks, wide_packet_switch): a stream its caller calls incoherent
+    /// is then traced as single rays without being cut into packets (ray_stream.h).
+    bool incoherent_packets_walk_alone() const { return bvh::incoherent_lanes_alone_from_root(blocks_.size()); }
+
     const AccelStats& stats() const { return stats_; }
     const BvhOptions& options() const { return options_; }
     std::span<const Node> nodes() const { return nodes_; }

@@ -85,7 +85,7 @@ template <bool AnyHit>
 void trace_stream(const AnyAccel& accel, std::span<const Ray> rays, std::span<Result<AnyHit>> out,
                   StreamTraversal traversal, TriangleTest test) {
     // Single rays take the variant as template arguments; the packet kernels take it at run time.
-    if (traversal.width == SimdWidth::scalar) {
+    if (traversal.width == SimdWidth::scalar || stream_walks_rays_alone(accel, traversal)) {
         accel.visit([&](const auto& structure) {
             trace_single_rays<AnyHit>(structure, rays, out, test, traversal.slabs, traversal.coherence,
                                       traversal.last_occluder);
@@ -146,6 +146,16 @@ void trace_stream_parallel(const AnyAccel& accel, std::span<const Ray> rays, std
 }
 
 }  // namespace
+
+bool stream_walks_rays_alone(const AnyAccel& accel, const StreamTraversal& traversal) {
+    if (traversal.width == SimdWidth::scalar || traversal.coherence != RayCoherence::incoherent) return false;
+    return accel.visit([](const auto& structure) {
+        if constexpr (requires { structure.incoherent_packets_walk_alone(); })
+            return structure.incoherent_packets_walk_alone();
+        else
+            return false;
+    });
+}
 
 void occlude_stream(const AnyAccel& accel, std::span<const Ray> rays, std::span<std::uint8_t> occluded,
                     StreamTraversal traversal, TriangleTest test) {

@@ -19,7 +19,9 @@
 namespace trident {
 
 /// How a stream is traced: single rays (width scalar) or packets of `width` lanes grouped so, with
-/// the robust or the fast slab test; `coherence` is the caller's hint for single closest-hit rays.
+/// the robust or the fast slab test; `coherence` is the caller's hint, as Embree's context flags:
+/// single closest-hit rays take it (the wide BVH prefetches for incoherent ones), and packets of an
+/// incoherent stream that would all walk their lanes alone are never cut (stream_walks_rays_alone).
 struct StreamTraversal {
     SimdWidth width = SimdWidth::scalar;
     PacketGrouping grouping = PacketGrouping::in_order;
@@ -30,6 +32,14 @@ struct StreamTraversal {
     /// answered by the walk alone (to measure the structure by itself); the answers are the same.
     bool last_occluder = true;
 };
+
+/// Whether a packet traversal of the stream goes ray by ray from the start: the caller calls its
+/// rays incoherent, and every incoherent packet of the structure walks its lanes alone from the
+/// root (the wide BVH over a large tree, accel/bvh/wide_packet.h). Cutting such a stream into
+/// octant packets and asking each whether its directions spread only to trace its rays alone cost
+/// 3-6% of the single rays' time (bench/experiments/bvh-traversal.md, sixteenth session), as
+/// Embree's incoherent packets go straight to its single-ray walk. The hits are the same.
+bool stream_walks_rays_alone(const AnyAccel& accel, const StreamTraversal& traversal);
 
 /// Any-hit: occluded[i] = 1 when rays[i] hits anything in [tmin, tmax]. Throws std::runtime_error
 /// when the structure has no packet traversal of that width.

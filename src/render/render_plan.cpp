@@ -55,8 +55,12 @@ PointLight default_light(const Aabb& box) {
 StreamTraversal incoherent_traversal(AccelKind accel, SimdWidth requested, std::size_t triangles) {
     // Above this size, octree octant packets narrower than 16 lanes lost to single rays (render_plan.h).
     constexpr std::size_t kOctreeNarrowPacketTriangles = 100000;
-    if (requested == SimdWidth::scalar) return {};
-    const auto octant_packets = [](SimdWidth width) { return StreamTraversal{width, PacketGrouping::by_octant}; };
+    // Hinted as incoherent, as Embree's incoherent context flag (ray_stream.h).
+    const auto single_rays = [] { return StreamTraversal{.coherence = RayCoherence::incoherent}; };
+    if (requested == SimdWidth::scalar) return single_rays();
+    const auto octant_packets = [](SimdWidth width) {
+        return StreamTraversal{width, PacketGrouping::by_octant, SlabTest::robust, RayCoherence::incoherent};
+    };
     switch (accel) {
         case AccelKind::bvh:
         case AccelKind::bvh2:
@@ -66,7 +70,7 @@ StreamTraversal incoherent_traversal(AccelKind accel, SimdWidth requested, std::
             return octant_packets(is_runnable(SimdWidth::w16) ? SimdWidth::w16 : SimdWidth::w4);
         case AccelKind::octree:
             if (is_runnable(SimdWidth::w16)) return octant_packets(SimdWidth::w16);
-            if (triangles >= kOctreeNarrowPacketTriangles) return {};
+            if (triangles >= kOctreeNarrowPacketTriangles) return single_rays();
             break;
         case AccelKind::brute:
             break;

@@ -77,7 +77,9 @@ PointLight default_light(const Aabb& box);
 /// 44f3868); the KD-tree 16 lanes where they run (1.07-2.42x), else 4 (8 lanes lost on Room and
 /// Buddha); the octree 16 lanes where they run (1.07-2.66x), else single rays above 100k
 /// triangles (narrower packets lost by up to 10% on Sponza, Room and Gallery) and the asked width
-/// below. Any choice gives the same answers, bit for bit.
+/// below. Any choice gives the same answers, bit for bit. The rays are hinted incoherent
+/// (StreamTraversal::coherence): the wide BVH prefetches for them, and over a large tree its
+/// packets go ray by ray from the start.
 StreamTraversal incoherent_traversal(AccelKind accel, SimdWidth requested, std::size_t triangles);
 
 RenderPlan make_render_plan(const Scene& scene, const RenderRequest& request);

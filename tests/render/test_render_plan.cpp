@@ -113,8 +113,10 @@ TEST_CASE("plan: ao samples and heat measure pass through; modes and measures pa
 
 TEST_CASE("plan: incoherent rays take the traversal measured best per structure, width and size") {
     const auto is_single = [](const StreamTraversal& t) { return t.width == SimdWidth::scalar; };
-    for (AccelKind accel : {AccelKind::bvh, AccelKind::kdtree, AccelKind::octree})
+    for (AccelKind accel : {AccelKind::bvh, AccelKind::kdtree, AccelKind::octree}) {
         CHECK(is_single(incoherent_traversal(accel, SimdWidth::scalar, 1000)));
+        CHECK(incoherent_traversal(accel, SimdWidth::scalar, 1000).coherence == RayCoherence::incoherent);
+    }
     const bool has16 = is_runnable(SimdWidth::w16);
     for (SimdWidth asked : {SimdWidth::w4, SimdWidth::w8, SimdWidth::w16}) {
         if (!is_runnable(asked)) continue;
@@ -127,8 +129,10 @@ TEST_CASE("plan: incoherent rays take the traversal measured best per structure,
             CHECK(kd.width == (has16 ? SimdWidth::w16 : SimdWidth::w4));
             // Narrow octree packets lose above 100k triangles: single rays there, unless 16 lanes run.
             CHECK(octree.width == (has16 ? SimdWidth::w16 : triangles < 100000 ? asked : SimdWidth::scalar));
-            for (const StreamTraversal& t : {bvh, kd, octree})
+            for (const StreamTraversal& t : {bvh, kd, octree}) {
                 if (!is_single(t)) CHECK(t.grouping == PacketGrouping::by_octant);
+                CHECK(t.coherence == RayCoherence::incoherent);
+            }
         }
     }
 }

@@ -238,21 +238,35 @@ TEST_CASE("incoherent packets over a large wide BVH go from the stream as single
     for (const Hit& hit : scalar_hits) hit_count += hit.is_hit();
     CHECK(hit_count > rays.size() / 4);  // the test sees both answers
     CHECK(hit_count < rays.size());
+    // A small tree's incoherent packets walk as packets, where their lanes share most nodes.
+    const AnyAccel small =
+        AnyAccel::build(AccelKind::bvh, testing::random_soup(kIncoherentAloneMinBlocks / 4, 64, 0.1f));
     for (SimdWidth width : runnable_widths()) {
         for (PacketGrouping grouping : {PacketGrouping::in_order, PacketGrouping::by_octant}) {
-            CAPTURE(to_string(width));
-            CAPTURE(to_string(grouping));
-            std::vector<Hit> hits(rays.size());
-            std::vector<std::uint8_t> occluded(rays.size());
-            intersect_stream(accel, rays, hits, {width, grouping});
-            occlude_stream(accel, rays, occluded, {width, grouping});
-            std::size_t hits_differ = 0, occlusion_differs = 0;
-            for (std::size_t i = 0; i < rays.size(); ++i) {
-                hits_differ += !testing::same_bits(hits[i], scalar_hits[i]);
-                occlusion_differs += occluded[i] != scalar_occluded[i];
+            // The caller's incoherent hint sends the large tree's stream ray by ray from the start,
+            // without cutting packets.
+            for (RayCoherence coherence : {RayCoherence::coherent, RayCoherence::incoherent}) {
+                CAPTURE(std::string(to_string(width)));
+                CAPTURE(std::string(to_string(grouping)));
+                CAPTURE(coherence == RayCoherence::incoherent);
+                const StreamTraversal traversal{width, grouping, SlabTest::robust, coherence};
+                const bool packets = width != SimdWidth::scalar;  // single rays are not asked
+                CHECK(stream_walks_rays_alone(accel, traversal) == (packets && coherence == RayCoherence::incoherent));
+                CHECK_FALSE(stream_walks_rays_alone(small, traversal));
+                std::vector<Hit> hits(rays.size());
+                std::vector<std::uint8_t> occluded(rays.size());
+                intersect_stream(accel, rays, hits, traversal);
+                occlude_stream(accel, rays, occluded, traversal);
+                std::size_t hits_differ = 0, occlusion_differs = 0;
+                for (std::size_t i = 0; i < rays.size(); ++i) {
+                    hits_differ += !testing::same_bits(hits[i], scalar_hits[i]);
+                    occlusion_differs += occluded[i] != scalar_occluded[i];
+                }
+                CHECK(hits_differ == 0);
+                CHECK(occlusion_differs == 0);
             }
-            CHECK(hits_differ == 0);
-            CHECK(occlusion_differs == 0);
         }
     }
+    CHECK_FALSE(stream_walks_rays_alone(
+        accel, {SimdWidth::scalar, PacketGrouping::in_order, SlabTest::robust, RayCoherence::incoherent}));
 }
