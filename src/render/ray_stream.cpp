@@ -58,9 +58,13 @@ void trace_packets(const Structure& structure, std::span<const Ray> rays, std::s
         if (!is_traced(rays[i])) out[i] = Result<AnyHit>{};
     // 1 where a ray's packet goes alone. Untraced rays between such rays join their run: their
     // results are already written, and the single-ray loop skips them. One buffer per thread,
-    // reused from chunk to chunk of the stream rather than allocated for each.
+    // reused from chunk to chunk of the stream rather than allocated for each; left empty for a
+    // structure whose packets never go alone.
     thread_local std::vector<std::uint8_t> alone;
-    alone.assign(rays.size(), 0);
+    if constexpr (WalksLanesAlone<Structure>)
+        alone.assign(rays.size(), 0);
+    else
+        alone.clear();
     using Kernels = RenderKernels<Structure, Width, File>;
     bool any_alone;
     if constexpr (AnyHit)
@@ -150,7 +154,7 @@ void trace_stream_parallel(const AnyAccel& accel, std::span<const Ray> rays, std
 bool stream_walks_rays_alone(const AnyAccel& accel, const StreamTraversal& traversal) {
     if (traversal.width == SimdWidth::scalar || traversal.coherence != RayCoherence::incoherent) return false;
     return accel.visit([](const auto& structure) {
-        if constexpr (requires { structure.incoherent_packets_walk_alone(); })
+        if constexpr (WalksLanesAlone<std::decay_t<decltype(structure)>>)
             return structure.incoherent_packets_walk_alone();
         else
             return false;

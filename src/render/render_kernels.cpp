@@ -45,14 +45,10 @@ TRIDENT_FLATTEN RayPacket<Arch> gather_packet(std::span<const Ray> rays, std::sp
 template <std::size_t Lanes, class Structure, class Walk>
 bool trace_stream_packets(const Structure& structure, std::span<const Ray> rays, PacketGrouping grouping,
                           PacketVariant variant, std::span<std::uint8_t> alone, Walk&& walk) {
-    constexpr bool kMayGoAlone = requires(std::span<const std::size_t> index) {
-        structure.packet_walks_lanes_alone(rays, index);
-    };
-    [[maybe_unused]] const bool may_go_alone = kMayGoAlone && variant.single_ray_lanes == kDefaultSingleRayLanes;
     bool any_alone = false;
     for_each_stream_packet(rays, Lanes, grouping, [&](std::span<const std::size_t> index) {
-        if constexpr (kMayGoAlone) {
-            if (may_go_alone && structure.packet_walks_lanes_alone(rays, index)) {
+        if constexpr (WalksLanesAlone<Structure>) {
+            if (variant.single_ray_lanes == kDefaultSingleRayLanes && structure.packet_walks_lanes_alone(rays, index)) {
                 for (const std::size_t i : index) alone[i] = 1;
                 any_alone = true;
                 return;

@@ -4,6 +4,7 @@
 // with no batch in sight and defined in render_kernels.cpp, which CMake compiles once per packet
 // width with that width's instruction set (simd/kernel_arch.h), so the files that pick a width at
 // run time (trace.cpp, heat_map.cpp, ray_stream.cpp) compile for the build's baseline.
+#include <concepts>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -23,6 +24,16 @@
 #include "simd/width.h"
 
 namespace trident {
+
+/// A structure whose packets may walk every lane alone from the root (the wide BVH's incoherent
+/// packets over a large tree): it says so of a packet of listed rays before the packet is built,
+/// and of every incoherent packet at once (accel/bvh/wide_bvh.h).
+template <class Structure>
+concept WalksLanesAlone = requires(const Structure& structure, std::span<const Ray> rays,
+                                   std::span<const std::size_t> index) {
+    { structure.packet_walks_lanes_alone(rays, index) } -> std::same_as<bool>;
+    { structure.incoherent_packets_walk_alone() } -> std::same_as<bool>;
+};
 
 /// `Width`'s packet loops as compiled in the kernel file of width `File`: the width's own file, or
 /// in the portable build a wider one (simd/kernel_arch.h, LanesIn): 4-lane packets in the 8- or

@@ -204,9 +204,8 @@ void check_last_occluder(const WideBvh<Width, BlockSize>& wide, std::span<const 
                 // The same ray again stops at the block it names, counted as the walk counts a
                 // block: its real triangles, not the lanes repeating the last one.
                 const auto& ids = wide.blocks()[last.id].id;
-                const std::size_t real = 1 + std::size_t(std::count_if(ids + 1, ids + BlockSize, [&](const auto& id) {
-                                             return id != (&id)[-1];
-                                         }));
+                std::size_t real = 0;
+                for (std::size_t k = 0; k < BlockSize; ++k) real += k == 0 || ids[k] != ids[k - 1];
                 LastOccluder again = last;
                 TraversalCounters counted;
                 CHECK(wide.template occluded<TriangleTest::watertight>(ray, counted, again));

@@ -8,6 +8,7 @@
 
 #include "core/ray_offset.h"
 #include "render/ray_stream.h"
+#include "render/render_kernels.h"
 #include "render/render_plan.h"
 #include "render/secondary_rays.h"
 #include "render/shade.h"
@@ -222,7 +223,7 @@ TEST_CASE("incoherent packets over a large wide BVH go from the stream as single
             std::iota(index.begin(), index.end(), first);
             return index;
         };
-        if constexpr (requires { structure.packet_walks_lanes_alone(rays, std::span<const std::size_t>()); }) {
+        if constexpr (WalksLanesAlone<std::decay_t<decltype(structure)>>) {
             REQUIRE(structure.blocks().size() >= kIncoherentAloneMinBlocks);
             CHECK(structure.packet_walks_lanes_alone(rays, eight_from(0)));
             CHECK_FALSE(structure.packet_walks_lanes_alone(rays, eight_from(1000)));  // within the cone
