@@ -28,6 +28,7 @@ struct Arguments {
     std::string bvh_builder = "auto";
     bool quiet = false, scaling = false, vs_single = false;
     std::string last_occluder = "on";
+    std::string tile_culling = "frustum";
 };
 
 [[noreturn]] void refuse(const std::string& message) { throw std::invalid_argument(message); }
@@ -276,6 +277,7 @@ BenchOptions resolve(const Arguments& args, const CLI::App& app) {
     options.scaling = args.scaling;
     options.vs_single = args.vs_single;
     options.last_occluder = args.last_occluder == "on";
+    options.tile_culling = args.tile_culling == "frustum" ? TileCulling::frustum : TileCulling::off;
     options.paired = resolve_paired(args.paired, options.ray_kinds);
     options.bvh_width = args.bvh_width;
     options.bvh_builder = parse_bvh_builder(args.bvh_builder);
@@ -350,6 +352,12 @@ void add_options(CLI::App& app, Arguments& args) {
                    "the default, where the structure can: the wide BVH), or only walks the tree (off: the structure "
                    "alone); the answers are the same")
         ->check(CLI::IsMember({"on", "off"}));
+    app.add_option("--tile-culling", args.tile_culling,
+                   "primary rows: a 16x16 image tile none of whose rays can reach the structure's top boxes (its "
+                   "frustum tested against them) gets misses without its rays being made or traced (frustum, the "
+                   "default, as the renderer does), or every ray is traced (off: the walks alone, as Embree's rows "
+                   "trace every ray); the hits are the same")
+        ->check(CLI::IsMember({"frustum", "off"}));
     app.add_option("--paired", args.paired,
                    "partners rows are timed against run by run, comma separated: scalar (primary rows: the same "
                    "structure's single rays), bvh (primary rows: the BVH at the same traversal), embree (Embree's "

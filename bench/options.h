@@ -15,6 +15,7 @@
 #include "bench/traversal.h"
 #include "core/intersect_triangle.h"
 #include "core/slab_test.h"
+#include "render/trace.h"
 
 namespace trident::bench {
 
@@ -77,6 +78,9 @@ struct BenchOptions {
     /// --last-occluder: shadow rows test the occluder of the ray or packet before first
     /// (StreamTraversal::last_occluder).
     bool last_occluder = true;
+    /// --tile-culling: primary rows skip the image tiles whose frustum misses the structure's top
+    /// boxes (TileCulling::frustum), or trace every ray (off).
+    TileCulling tile_culling = TileCulling::frustum;
     /// --paired: the partners rows of ours are timed against, each run by run.
     std::vector<PairPartner> paired;
     bool pairs_with(PairPartner partner) const {

@@ -7,7 +7,8 @@ same rays, same structure, traversal and threads, in pairs.
 Each round runs `build/trident-bench ... --repeats R` (render ms: the median of R runs after one
 warm-up) and then times R calls of scene.intersect(rays) after one warm-up, the same R (median).
 A round's ratio is module over C++; the table gives the medians over rounds of both times and of
-the ratios. Before timing, the module's hits are compared with trident-bench's hit buffer
+the ratios. trident-bench traces every ray (--tile-culling off), as the module traces every ray it
+is given. Before timing, the module's hits are compared with trident-bench's hit buffer
 (--dump-hits): identical triangle and t, or the row says how many differ.
 """
 import argparse
@@ -45,7 +46,9 @@ def bench_render_ms(args, scene_args, accel, traversal, threads, dump_dir=None, 
         out = pathlib.Path(tmp) / "row.json"
         command = [str(args.bench), *scene_args, "--accel", accel, "--simd", traversal, "--threads", str(threads),
                    "--width", str(args.width), "--height", str(args.height), "--repeats", str(args.repeats),
-                   "--embree", "none", "--reference", "self", "--quiet", "--json", str(out)]
+                   "--embree", "none", "--reference", "self", "--quiet", "--json", str(out),
+                   # Every ray traced, as the module traces every ray of its arrays.
+                   "--tile-culling", "off"]
         if dump_dir:
             command += ["--dump-hits", str(dump_dir)]
         subprocess.run(command, check=True, stdout=subprocess.DEVNULL)

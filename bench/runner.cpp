@@ -142,6 +142,16 @@ private:
             report_.notes.push_back(fmt::format("bvh rows: the wide BVH, {} children a node, blocks of 4 triangles; "
                                                 "bvh2 rows: the binary BVH",
                                                 options_.bvh_width));
+        // The brute force has no boxes to cull by (TileCuller): the note is for the others.
+        const bool culls_tiles = options_.tile_culling == TileCulling::frustum &&
+                                 std::find(options_.ray_kinds.begin(), options_.ray_kinds.end(), RayKind::primary) !=
+                                     options_.ray_kinds.end() &&
+                                 std::any_of(options_.structures.begin(), options_.structures.end(),
+                                             [](AccelKind kind) { return kind != AccelKind::brute; });
+        if (culls_tiles)
+            report_.notes.push_back(
+                "primary rows of ours: a 16x16 tile none of whose rays can reach the structure's top boxes gets "
+                "misses without being traced (--tile-culling frustum; Embree's rows trace every ray)");
         if (options_.bvh_builder != BvhOptions{}.builder)
             report_.notes.push_back(fmt::format("bvh and bvh2 rows: built with {}", to_string(options_.bvh_builder)));
         for (TriangleTest test : options_.triangle_tests)
@@ -499,13 +509,15 @@ private:
         // --paired: the partners trace into their own buffer, so the row's hits stay for its error.
         std::vector<Partner> partners;
         if (options_.pairs_with(PairPartner::scalar) && traversal != Traversal::scalar)
-            partners.push_back(
-                {{[&] { trace_primary(accel, run.camera, partner_hits_, test, SimdWidth::scalar, slabs); }},
-                 &BenchRow::paired_over_scalar});
+            partners.push_back({{[&] {
+                                    trace_primary(accel, run.camera, partner_hits_, test, SimdWidth::scalar, slabs,
+                                                  options_.tile_culling);
+                                }},
+                                &BenchRow::paired_over_scalar});
         if (run.bvh_partner && config.kind != AccelKind::bvh)
             partners.push_back({{[&] {
                                     trace_primary(*run.bvh_partner, run.camera, partner_hits_, test,
-                                                  simd_width(traversal), slabs);
+                                                  simd_width(traversal), slabs, options_.tile_culling);
                                 }},
                                 &BenchRow::paired_over_bvh});
 #if TRIDENT_HAVE_EMBREE
@@ -521,7 +533,8 @@ private:
 #endif
         time_renders(
             fmt::format("{} {}", what, row.traversal), row,
-            [&] { trace_primary(accel, run.camera, hits_, test, simd_width(traversal), slabs); }, partners);
+            [&] { trace_primary(accel, run.camera, hits_, test, simd_width(traversal), slabs, options_.tile_culling); },
+            partners);
         row.nodes = stats.nodes;
         row.leaves = stats.leaves;
         row.max_depth = stats.max_depth;

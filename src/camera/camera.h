@@ -30,6 +30,15 @@ public:
         return d / Lanes<T>::sqrt(dot(d, d));  // normalize(d)
     }
 
+    /// The unnormalized direction through pixel (x, y), as primary_direction writes it, in double;
+    /// x and y need not be whole (x - 0.5 is the pixel's left edge). For bounds on a tile's rays
+    /// (render/tile_frustum.h), which normalizing would only scale.
+    Vec3d direction_in_double(double x, double y) const {
+        const double sx = (2.0 * (x + 0.5) / double(width_) - 1.0) * double(tx_);
+        const double sy = (1.0 - 2.0 * (y + 0.5) / double(height_)) * double(ty_);
+        return Vec3d(forward_) + sx * Vec3d(right_) + sy * Vec3d(up_);
+    }
+
     std::uint32_t width() const { return width_; }
     std::uint32_t height() const { return height_; }
     const Vec3f& eye() const { return eye_; }

@@ -15,18 +15,24 @@
 
 namespace trident {
 
+/// Whether trace_primary first tests each tile's frustum against the structure's top boxes and
+/// writes misses, without making its rays, for a tile none of whose rays can reach them
+/// (render/tile_frustum.h; the hits are the same either way), or traces every ray (`off`: what
+/// the structure's walks cost per ray, as a ray-by-ray interface such as Embree's must).
+enum class TileCulling { frustum, off };
+
 /// Closest hit of every primary ray, row-major from the top row. With a packet width, rays go as
 /// packets of 2x2 (4 lanes), 4x2 (8) or 4x4 (16) pixels; lanes past the image edge are inactive.
 /// Throws std::runtime_error when the width is not runnable here or the structure has no packets.
 /// `slabs` picks the structures' robust (default) or fast box tests (core/slab_test.h).
 std::vector<Hit> trace_primary(const AnyAccel& accel, const Camera& camera,
                                TriangleTest test = TriangleTest::watertight, SimdWidth width = SimdWidth::scalar,
-                               SlabTest slabs = SlabTest::robust);
+                               SlabTest slabs = SlabTest::robust, TileCulling culling = TileCulling::frustum);
 /// The same into a buffer of width x height hits the caller owns, so repeated timed traces
 /// (trident-bench) measure tracing, not allocating. Throws std::invalid_argument on a wrong size.
 void trace_primary(const AnyAccel& accel, const Camera& camera, std::span<Hit> hits,
                    TriangleTest test = TriangleTest::watertight, SimdWidth width = SimdWidth::scalar,
-                   SlabTest slabs = SlabTest::robust);
+                   SlabTest slabs = SlabTest::robust, TileCulling culling = TileCulling::frustum);
 /// Whether trace_primary can run this structure at this width here (scalar always; a packet width
 /// needs the CPU's instruction set and the structure's packet traversal), so the benchmark skips
 /// what trace_primary would refuse.

@@ -471,6 +471,41 @@ TEST_CASE("a structure compared with itself has exactly zero error: --reference 
     check_zero_error(nlohmann::json::parse(trident::testing::read_text(dir / "folder.json")));
 }
 
+TEST_CASE("--tile-culling off traces every primary ray, with the same hits, and only frustum culling is noted") {
+    const fs::path dir = scratch_dir() / "tile_culling";
+    fs::create_directories(dir);
+    const std::string args =
+        "--only teapot --width 160 --height 90 --repeats 1 --quiet --accel bvh,kdtree --simd "
+        "scalar,simd4 --threads 1 --embree none --reference self ";
+    std::vector<std::string> notes[2];
+    for (const bool culling : {true, false}) {
+        const std::string name = culling ? "frustum" : "off";
+        const BenchRun run = run_bench(args + "--tile-culling " + name + " --dump-hits " + (dir / name).string() +
+                                       " --json " + (dir / (name + ".json")).string());
+        INFO(run.err);
+        REQUIRE(run.exit_code == 0);
+        const auto json = nlohmann::json::parse(trident::testing::read_text(dir / (name + ".json")));
+        for (const auto& note : json.at("notes")) notes[culling].push_back(note.get<std::string>());
+    }
+    const auto mentions_culling = [](const std::vector<std::string>& lines) {
+        return std::any_of(lines.begin(), lines.end(), [](const std::string& line) {
+            return line.find("--tile-culling frustum") != std::string::npos;
+        });
+    };
+    CHECK(mentions_culling(notes[true]));
+    CHECK_FALSE(mentions_culling(notes[false]));
+    std::size_t compared = 0;
+    for (const auto& entry : fs::directory_iterator(dir / "frustum")) {
+        CAPTURE(entry.path().filename().string());
+        const trident::HitBuffer culled = trident::read_hit_buffer(entry.path());
+        const trident::HitBuffer every_ray = trident::read_hit_buffer(dir / "off" / entry.path().filename());
+        CHECK(culled.triangle == every_ray.triangle);
+        CHECK(culled.t == every_ray.t);
+        ++compared;
+    }
+    CHECK(compared == 4);  // two structures, two traversals
+}
+
 TEST_CASE("every runnable packet width gets its own row, traced on the same rays as the scalar one") {
     std::string simd = "scalar";
     for (const char* width : {"simd4", "simd8", "simd16"})

@@ -55,6 +55,7 @@ TEST_CASE("bad options give one line naming the option and a non-zero exit") {
         {"--embree 3", "--embree"},  // "--embree 3: expected ..." or, built without Embree, "--embree: ..."
         {"--embree-quality best", "--embree-quality"},
         {"--last-occluder maybe", "--last-occluder"},
+        {"--tile-culling sometimes", "--tile-culling"},
         {"--paired nothing", "--paired nothing: expected scalar, bvh, embree or closest"},
         {"--paired closest", "--paired closest: pairs shadow rows only; add shadow to --rays"},
         {"--paired closest --rays primary,diffuse", "--paired closest: pairs shadow rows only"},
