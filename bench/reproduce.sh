@@ -14,6 +14,7 @@
 #              packets, 1 and 2 threads, Embree's rtcIntersect1/8/16 rows beside them, and every row
 #              paired with its single rays, the BVH and Embree on the same rays (--paired): Table 2,
 #              ours against Embree, build time, memory, error, the study's question for primary rays.
+#              Our rows skip the image tiles that see nothing, as the renderer does (--tile-culling).
 #   ray_kinds  primary, shadow and diffuse rays of the same scenes at 960x540 (a quarter of the rays:
 #              the diffuse rows are the run's slowest), the same traversals, threads and Embree calls:
 #              the study's question per ray kind, shadow and diffuse rays against Embree, and shadow
