@@ -24,20 +24,14 @@ public:
     /// the single rays bit for bit. x and y are pixel numbers, exact as floats.
     template <class T>
     Vec3T<T> primary_direction(const T& x, const T& y) const {
-        const T sx = (T(2.0f) * (x + T(0.5f)) / T(float(width_)) - T(1.0f)) * T(tx_);
-        const T sy = (T(1.0f) - T(2.0f) * (y + T(0.5f)) / T(float(height_))) * T(ty_);
-        const Vec3T<T> d = Vec3T<T>(forward_) + sx * Vec3T<T>(right_) + sy * Vec3T<T>(up_);
+        const Vec3T<T> d = unnormalized_direction(x, y);
         return d / Lanes<T>::sqrt(dot(d, d));  // normalize(d)
     }
 
-    /// The unnormalized direction through pixel (x, y), as primary_direction writes it, in double;
-    /// x and y need not be whole (x - 0.5 is the pixel's left edge). For bounds on a tile's rays
-    /// (render/tile_frustum.h), which normalizing would only scale.
-    Vec3d direction_in_double(double x, double y) const {
-        const double sx = (2.0 * (x + 0.5) / double(width_) - 1.0) * double(tx_);
-        const double sy = (1.0 - 2.0 * (y + 0.5) / double(height_)) * double(ty_);
-        return Vec3d(forward_) + sx * Vec3d(right_) + sy * Vec3d(up_);
-    }
+    /// The unnormalized direction through pixel (x, y) in double; x and y need not be whole
+    /// (x - 0.5 is the pixel's left edge). For bounds on a tile's rays (render/tile_frustum.h),
+    /// which normalizing would only scale.
+    Vec3d direction_in_double(double x, double y) const { return unnormalized_direction(x, y); }
 
     std::uint32_t width() const { return width_; }
     std::uint32_t height() const { return height_; }
@@ -45,6 +39,14 @@ public:
     const Vec3f& forward() const { return forward_; }
 
 private:
+    /// forward + sx * right + sy * up of BENCHMARK.md, in T's arithmetic.
+    template <class T>
+    Vec3T<T> unnormalized_direction(const T& x, const T& y) const {
+        const T sx = (T(2.0f) * (x + T(0.5f)) / T(float(width_)) - T(1.0f)) * T(tx_);
+        const T sy = (T(1.0f) - T(2.0f) * (y + T(0.5f)) / T(float(height_))) * T(ty_);
+        return Vec3T<T>(forward_) + sx * Vec3T<T>(right_) + sy * Vec3T<T>(up_);
+    }
+
     Vec3f eye_, forward_, right_, up_;
     float tx_, ty_;
     std::uint32_t width_, height_;

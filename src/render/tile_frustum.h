@@ -14,7 +14,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <optional>
 #include <span>
 #include <vector>
 
@@ -81,21 +80,20 @@ public:
             const auto nodes = structure.nodes();
             if (nodes.empty()) return;
             using Node = typename decltype(nodes)::value_type;
-            // A node's non-empty children's boxes, each with the node it leads to (if not a leaf).
-            const auto add_children = [&](const Node& node, std::vector<Box>& out) {
-                for (std::size_t k = 0; k < node.width && !node.child[k].is_empty(); ++k) {
-                    const auto corner = [&](int (*row)(int)) {
-                        return Vec3d(node.bounds[row(0)][k], node.bounds[row(1)][k], node.bounds[row(2)][k]);
-                    };
-                    if (add(out, corner(bvh::lower_row), corner(bvh::upper_row)) && !node.child[k].is_leaf())
-                        out.back().node = node.child[k].node_offset() / sizeof(Node);
-                }
+            // Child k's box, appended to `out` unless empty.
+            const auto add_child = [](const Node& node, std::size_t k, std::vector<Box>& out) {
+                const auto corner = [&](int (*row)(int)) {
+                    return Vec3d(node.bounds[row(0)][k], node.bounds[row(1)][k], node.bounds[row(2)][k]);
+                };
+                return add(out, corner(bvh::lower_row), corner(bvh::upper_row));
             };
-            add_children(nodes[0], boxes_);
-            for (Box& box : boxes_) {
-                if (!box.node) continue;
+            const Node& root = nodes[0];
+            for (std::size_t k = 0; k < root.width && !root.child[k].is_empty(); ++k) {
+                if (!add_child(root, k, boxes_) || root.child[k].is_leaf()) continue;
+                const Node& child = nodes[root.child[k].node_offset() / sizeof(Node)];
+                Box& box = boxes_.back();
                 box.first_below = below_.size();
-                add_children(nodes[*box.node], below_);
+                for (std::size_t j = 0; j < child.width && !child.child[j].is_empty(); ++j) add_child(child, j, below_);
                 box.below_count = below_.size() - box.first_below;
                 std::sort(below_.begin() + std::ptrdiff_t(box.first_below), below_.end(), by_area);
             }
@@ -135,13 +133,12 @@ private:
         Vec3d lo, hi;
         double area;
         std::size_t first_below = 0, below_count = 0;  // its children's boxes in below_, if any
-        std::optional<std::size_t> node;               // the wide node it bounds, while building
     };
     /// Appends the box [lo, hi] unless it is empty; returns whether it did.
     static bool add(std::vector<Box>& boxes, const Vec3d& lo, const Vec3d& hi) {
         if (!(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z) || !is_finite(lo) || !is_finite(hi)) return false;
         const Vec3d size = hi - lo;
-        boxes.push_back({lo, hi, size.x * size.y + size.y * size.z + size.z * size.x, 0, 0, std::nullopt});
+        boxes.push_back({lo, hi, size.x * size.y + size.y * size.z + size.z * size.x, 0, 0});
         return true;
     }
     /// The largest first: where most tiles reach the scene (an interior), the first test says so.
