@@ -2,12 +2,11 @@
 // Ray packets: up to N rays in structure-of-arrays form, one per lane of an xsimd batch, with what
 // every traversal step needs computed once per packet (Embree's TravRayK): the reciprocal
 // direction (in the slab test's form), per-axis sign masks and whether all active lanes share one
-// octant. HitPacket keeps the closest hits and writes them back as scalar Hits. Lane i of a packet
-// test equals the scalar test on ray i bit for bit (core/lanes.h says what that takes).
+// octant. HitPacket keeps the closest hits, which simd/hit_lanes.h writes out as scalar Hits. Lane
+// i of a packet test equals the scalar test on ray i bit for bit (core/lanes.h says what that
+// takes).
 // Why the build is tied to -march=native, and how one binary could serve SSE4.2, AVX2 and AVX-512
 // CPUs: simd/README.md.
-#include <array>
-#include <cassert>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -102,19 +101,6 @@ struct HitPacket {
         t = xsimd::select(hit, h.t, t);
         u = xsimd::select(hit, h.u, u);
         v = xsimd::select(hit, h.v, v);
-    }
-
-    /// Lanes [0, hits.size()) as scalar hits; a lane without a hit becomes a miss (Hit{}).
-    void store(std::span<Hit> hits) const {
-        assert(hits.size() <= width);
-        std::array<std::uint32_t, width> ids;
-        std::array<float, width> ts, us, vs;
-        triangle.store_unaligned(ids.data());
-        t.store_unaligned(ts.data());
-        u.store_unaligned(us.data());
-        v.store_unaligned(vs.data());
-        for (std::size_t i = 0; i < hits.size(); ++i)
-            hits[i] = ids[i] == kNoTriangle ? Hit{} : Hit{ids[i], ts[i], us[i], vs[i]};
     }
 };
 

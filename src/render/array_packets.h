@@ -13,6 +13,7 @@
 
 #include "render/image_tiles.h"
 #include "render/ray_arrays.h"
+#include "simd/hit_lanes.h"
 #include "simd/packet.h"
 
 namespace trident {
@@ -81,28 +82,33 @@ public:
         }
     }
 
-    /// The block's active lanes' results to their rays' places in `out`, by streaming stores where
-    /// the image asks for them (RayImage::stream_results).
-    template <class Result>
-    [[gnu::always_inline]] void store(const Block& block, const std::array<Result, kLanes>& lanes, Result* out) const {
-        if constexpr (kStreamableResult<Result>)
-            if (image_.stream_results) return store_lanes<true>(block, lanes, out);
-        store_lanes<false>(block, lanes, out);
+    /// The block's active lanes' hits to their rays' places in `out`, from registers
+    /// (simd/hit_lanes.h), by streaming stores where the image asks for them
+    /// (RayImage::stream_results).
+    [[gnu::always_inline]] void store(const Block& block, const simd::HitLanes<Arch>& hits, Hit* out) const {
+        Hit* const first = out + block.first;
+        if (image_.stream_results)
+            for_each_active_lane(block,
+                                 [&](std::size_t i) { hits.template store_lane<true>(i, first + ray_offset_[i]); });
+        else
+            for_each_active_lane(block, [&](std::size_t i) { hits.store_lane(i, first + ray_offset_[i]); });
+    }
+
+    /// The block's active lanes' occlusion flags (bit i: lane i occluded) to their rays' places in
+    /// `out`.
+    [[gnu::always_inline]] void store(const Block& block, std::uint32_t occluded_bits, std::uint8_t* out) const {
+        for_each_active_lane(block,
+                             [&](std::size_t i) { out[block.first + ray_offset_[i]] = (occluded_bits >> i) & 1u; });
     }
 
 private:
-    template <bool Streaming, class Result>
-    [[gnu::always_inline]] void store_lanes(const Block& block, const std::array<Result, kLanes>& lanes,
-                                            Result* out) const {
+    template <class PerLane>
+    [[gnu::always_inline]] static void for_each_active_lane(const Block& block, PerLane&& per_lane) {
         if (block.active_bits == kAllLanes) {
-            for (std::size_t i = 0; i < kLanes; ++i)
-                write_result<Streaming>(out + block.first + ray_offset_[i], lanes[i]);
+            for (std::size_t i = 0; i < kLanes; ++i) per_lane(i);
             return;
         }
-        for (std::uint32_t bits = block.active_bits; bits != 0; bits &= bits - 1) {
-            const int i = std::countr_zero(bits);
-            write_result<Streaming>(out + block.first + ray_offset_[i], lanes[i]);
-        }
+        for (std::uint32_t bits = block.active_bits; bits != 0; bits &= bits - 1) per_lane(std::countr_zero(bits));
     }
 
     /// Each lane's 3 floats from at(i), by coordinate.

@@ -12,6 +12,7 @@
 
 #include "camera/camera.h"
 #include "render/image_tiles.h"
+#include "simd/hit_lanes.h"
 #include "simd/lanes.h"
 #include "simd/packet.h"
 
@@ -59,19 +60,18 @@ struct PrimaryBlock {
     /// `tile` only.
     void store(const HitPacket<Arch>& hits, const ImageTile& tile, std::uint32_t image_width,
                std::span<Hit> out) const {
-        std::array<Hit, kLanes> lanes;
-        hits.store(lanes);
-        const std::uint32_t columns = std::min(kBlockWidth, tile.x1 - x0);
-        for (std::uint32_t row = 0; row < kBlockHeight && y0 + row < tile.y1; ++row) {
-            const auto from = lanes.begin() + row * kBlockWidth;
-            const auto to = out.begin() + std::ptrdiff_t(std::size_t(y0 + row) * image_width + x0);
-            // A whole row by a copy of known size: of a count known only here the compiler made a
-            // `rep movs`, whose start-up took 4% of Teapot's 8-lane primary packets (perf).
-            if (columns == kBlockWidth)
-                std::copy_n(from, kBlockWidth, to);
-            else
-                std::copy_n(from, columns, to);
+        const simd::HitLanes<Arch> lanes(hits);
+        const auto row_start = [&](std::uint32_t row) { return out.data() + std::size_t(y0 + row) * image_width + x0; };
+        // A whole block, as every block of an image whose sides the block's divide, row by row
+        // from registers.
+        if (x0 + kBlockWidth <= tile.x1 && y0 + kBlockHeight <= tile.y1) {
+            for (std::uint32_t row = 0; row < kBlockHeight; ++row)
+                lanes.template store_row<kBlockWidth>(row, row_start(row));
+            return;
         }
+        for (std::uint32_t row = 0; row < kBlockHeight && y0 + row < tile.y1; ++row)
+            for (std::uint32_t column = 0; column < kBlockWidth && x0 + column < tile.x1; ++column)
+                lanes.store_lane(row * kBlockWidth + column, row_start(row) + column);
     }
 
 private:

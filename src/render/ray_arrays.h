@@ -1,11 +1,9 @@
 #pragma once
 // Rays read where the caller keeps them (numpy's arrays, for the Python module), and the image of
 // rays the stream kernels trace by tiles (ray_stream.h), as the renderer traces its primary rays.
-#include <immintrin.h>
 
 #include <cstddef>
 #include <cstdint>
-#include <type_traits>
 #include <utility>
 
 #include "core/ray.h"
@@ -41,7 +39,7 @@ inline bool is_traceable(const Ray& ray) {
 /// list cut into rows (`runs`), `lanes` consecutive rays of a row.
 ///
 /// With `stream_results`, closest hits are written with streaming stores, which bypass the caches
-/// and do not read the line they write (write_result): for a batch too large to stay cached, into
+/// and do not read the line they write (simd/hit_lanes.h): for a batch too large to stay cached, into
 /// memory kept between batches (python/result_memory.h). The results must be 16-byte aligned, and
 /// the writing thread fences (_mm_sfence) before another reads them.
 struct RayImage {
@@ -69,22 +67,6 @@ inline void prefetch_tile(const RayImage& image, const ImageTile& tile) {
             for (const char* p = first; p <= last; p += kLine) __builtin_prefetch(p);
             __builtin_prefetch(last);
         }
-    }
-}
-
-/// Results a streaming store can write: closest hits, 16 bytes each.
-template <class Result>
-inline constexpr bool kStreamableResult = std::is_same_v<Result, Hit>;
-static_assert(sizeof(Hit) == 16);
-
-/// *place = result, with Streaming by a streaming store (RayImage::stream_results).
-template <bool Streaming, class Result>
-[[gnu::always_inline]] inline void write_result(Result* place, const Result& result) {
-    if constexpr (Streaming) {
-        static_assert(kStreamableResult<Result>);
-        _mm_stream_ps(reinterpret_cast<float*>(place), _mm_loadu_ps(reinterpret_cast<const float*>(&result)));
-    } else {
-        *place = result;
     }
 }
 

@@ -2,8 +2,6 @@
 // for each packet width (simd/kernel_arch.h) for every structure AnyAccel holds.
 #include "render/render_kernels.h"
 
-#include <array>
-
 #include "accel/any_accel.h"
 #include "core/flatten.h"
 #include "core/traversal_variant.h"
@@ -11,6 +9,7 @@
 #include "render/occlude_in_order.h"
 #include "render/primary_packets.h"
 #include "render/stream_packets.h"
+#include "simd/hit_lanes.h"
 #include "simd/kernel_arch.h"
 #include "simd/packet.h"
 
@@ -106,9 +105,8 @@ bool RenderKernels<Structure, Width, File>::intersect_stream(const Structure& st
         HitPacket<Arch> packet_hits(packet);
         NoCounters counters;
         intersect_packet(structure, packet, packet_hits, counters, variant);
-        std::array<Hit, kLanes> lane_hits;
-        packet_hits.store(std::span(lane_hits.data(), index.size()));
-        for (std::size_t k = 0; k < index.size(); ++k) hits[index[k]] = lane_hits[k];
+        const simd::HitLanes<Arch> lanes(packet_hits);
+        for (std::size_t k = 0; k < index.size(); ++k) lanes.store_lane(k, &hits[index[k]]);
     });
 }
 
@@ -139,9 +137,7 @@ bool RenderKernels<Structure, Width, File>::intersect_array_tile(const Structure
         HitPacket packet_hits(packet);
         NoCounters counters;
         intersect_packet(structure, packet, packet_hits, counters, variant);
-        std::array<Hit, kLanes> lanes;
-        packet_hits.store(lanes);
-        blocks.store(block, lanes, out);
+        blocks.store(block, simd::HitLanes(packet_hits), out);
         return true;
     });
 }
@@ -155,10 +151,7 @@ bool RenderKernels<Structure, Width, File>::occlude_array_tile(const Structure& 
     LastOccluder last;  // carried from block to block of the tile
     return blocks.for_each_block([&](const auto& packet, const auto& block) {
         NoCounters counters;
-        const std::uint32_t bits = simd::mask_bits(occlude_packet(structure, packet, counters, variant, &last));
-        std::array<std::uint8_t, kLanes> lanes;
-        for (std::size_t k = 0; k < kLanes; ++k) lanes[k] = (bits >> k) & 1u;
-        blocks.store(block, lanes, out);
+        blocks.store(block, simd::mask_bits(occlude_packet(structure, packet, counters, variant, &last)), out);
         return true;
     });
 }

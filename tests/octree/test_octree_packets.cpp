@@ -17,6 +17,7 @@
 #include "octree/octree_meshes.h"
 #include "octree/octree_test_support.h"
 #include "simd/each_arch.h"
+#include "simd/hit_lanes.h"
 #include "support/camera_rays.h"
 #include "support/packet_agreement.h"
 #include "support/random_scenes.h"
@@ -150,7 +151,8 @@ TEST_CASE("a packet of one ray in every lane does exactly the single ray's work,
                               single_any.nodes_visited != packed_any.nodes_visited ||
                               single_any.triangles_tested != packed_any.triangles_tested;
             std::array<Hit, RayPacket<Arch>::width> got;
-            hits.store(got);
+            const simd::HitLanes<Arch> lanes(hits);
+            for (std::size_t i = 0; i < got.size(); ++i) lanes.store_lane(i, &got[i]);
             different_hits +=
                 std::count_if(got.begin(), got.end(), [&](const Hit& h) { return !same_bits(h, expected); });
         }

@@ -13,6 +13,7 @@
 
 #include "core/intersect_triangle.h"
 #include "each_arch.h"
+#include "simd/hit_lanes.h"
 #include "simd/packet.h"
 #include "support/float_bits.h"
 #include "support/random_scenes.h"
@@ -134,13 +135,64 @@ TEST_CASE("a hit packet records hits per lane and stores misses as Hit{}") {
         hits.record(xsimd::batch_bool<float, Arch>::load_unaligned(even.data()), 42,
                     {Float(3.0f), Float(0.25f), Float(0.5f)});
         std::vector<Hit> stored(width - 1, Hit{7, 1.0f, 1.0f, 1.0f});
-        hits.store(stored);
+        const simd::HitLanes<Arch> lanes(hits);
+        for (std::size_t i = 0; i < stored.size(); ++i) lanes.store_lane(i, &stored[i]);
         std::size_t wrong = 0;
         for (std::size_t i = 0; i < stored.size(); ++i) {
             const Hit expected = even[i] ? Hit{42, 3.0f, 0.25f, 0.5f} : Hit{};
             wrong += stored[i].triangle != expected.triangle || stored[i].t != expected.t ||
                      stored[i].u != expected.u || stored[i].v != expected.v;
         }
+        CHECK(wrong == 0);
+    });
+}
+
+TEST_CASE("hit lanes write each lane's hit, a miss as Hit{}, by block rows and one by one") {
+    for_each_packet_arch([]<class Arch>() {
+        using Float = xsimd::batch<float, Arch>;
+        constexpr std::size_t width = RayPacket<Arch>::width;
+        constexpr std::size_t row_lanes = width == 4 ? 2 : 4;   // the pixel blocks' (image_tiles.h)
+        const std::vector<Ray> rays = distinct_rays(width, 0);  // tmax 100 + i: a miss keeps it
+        const RayPacket<Arch> packet(rays);
+        HitPacket<Arch> hits(packet);
+        // Lane i hits triangle 10 + i at t = i + 1 when i is not a multiple of 3, every field
+        // distinct; the misses' u and v are set too, which the stores must not pass on.
+        std::array<float, width> t{}, u{}, v{};
+        std::array<std::uint32_t, width> ids{};
+        for (std::size_t i = 0; i < width; ++i) {
+            const bool hit = i % 3 != 0;
+            ids[i] = hit ? std::uint32_t(10 + i) : kNoTriangle;
+            t[i] = hit ? float(i) + 1.0f : rays[i].tmax;
+            u[i] = 0.125f * float(i + 1), v[i] = 0.0625f * float(i + 1);
+        }
+        hits.triangle = xsimd::batch<std::uint32_t, Arch>::load_unaligned(ids.data());
+        hits.t = Float::load_unaligned(t.data());
+        hits.u = Float::load_unaligned(u.data());
+        hits.v = Float::load_unaligned(v.data());
+        const auto expected = [&](std::size_t i) {
+            return ids[i] == kNoTriangle ? Hit{} : Hit{ids[i], t[i], u[i], v[i]};
+        };
+        const auto same = [](const Hit& a, const Hit& b) {
+            return a.triangle == b.triangle && bits_of(a.t) == bits_of(b.t) && bits_of(a.u) == bits_of(b.u) &&
+                   bits_of(a.v) == bits_of(b.v);
+        };
+        const simd::HitLanes<Arch> lanes(hits);
+        // Rows into a wider image, so that a store past its row would show in the gaps.
+        constexpr std::size_t stride = row_lanes + 3;
+        std::vector<Hit> image(width / row_lanes * stride, Hit{7, 1.0f, 1.0f, 1.0f});
+        for (std::size_t row = 0; row < width / row_lanes; ++row)
+            lanes.template store_row<row_lanes>(row, image.data() + row * stride);
+        std::size_t wrong = 0;
+        for (std::size_t i = 0; i < width; ++i)
+            wrong += !same(image[i / row_lanes * stride + i % row_lanes], expected(i));
+        for (std::size_t row = 0; row < width / row_lanes; ++row)
+            for (std::size_t k = row_lanes; k < stride; ++k)
+                wrong += !same(image[row * stride + k], Hit{7, 1.0f, 1.0f, 1.0f});
+        CHECK(wrong == 0);
+        std::vector<Hit> one_by_one(width, Hit{7, 1.0f, 1.0f, 1.0f});
+        for (std::size_t i = 0; i < width; ++i) lanes.store_lane(width - 1 - i, &one_by_one[i]);
+        wrong = 0;
+        for (std::size_t i = 0; i < width; ++i) wrong += !same(one_by_one[i], expected(width - 1 - i));
         CHECK(wrong == 0);
     });
 }
@@ -174,7 +226,8 @@ TEST_CASE("closest hits over packets equal the scalar closest hits bit for bit")
                 TriangleHitT<Float> h{};
                 for (std::size_t k = 0; k < triangles.size(); ++k)
                     hits.record(isect.intersect(triangles[k], hits.t, h) & packet.active, TriangleId(k), h);
-                hits.store(std::span<Hit>(out).subspan(first, count));
+                const simd::HitLanes<Arch> lanes(hits);
+                for (std::size_t i = 0; i < count; ++i) lanes.store_lane(i, &out[first + i]);
             }
             return out;
         };
