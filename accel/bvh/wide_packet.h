@@ -261,9 +261,14 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
 
     // Lanes that may still find a hit in a node entered at t_entry.
     const auto needing = [&](const Float& t_entry) { return live & !blocked & (t_entry <= bvh::prune_limit(hits.t)); };
-    // The stack by field: a batch of entry distances (+inf in lanes that do not enter) and a child
-    // per entry. As one struct the 64-byte-aligned batch padded each entry to 128 bytes.
+    // The stack by field: a child per entry, its order key, and, for lane tests, a batch of entry
+    // distances (+inf in lanes that do not enter). As one struct the 64-byte-aligned batch padded
+    // each entry to 128 bytes. A frustum-only walk enters every lane at the key (the frustum's
+    // entry bound), so it keeps no batches: the sorted insert moved a 64-byte batch for each key
+    // it passed and wrote one per child entered, whose lines perf put at about 5% of Room's
+    // 16-lane primary packets; without them the interiors' rows ran 1.00-1.07x as fast (A/B).
     Float stack_t_entry[kStackSize];
+    float stack_key[kStackSize];
     bvh::ChildRef stack_ref[kStackSize];
     std::size_t stack_size = 0;
     bvh::ChildRef current = bvh::ChildRef::node_at(0);
@@ -287,21 +292,21 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
             // none: any hit ends a lane's search, so the nearest child is no better a guess, and
             // sorting cost shadow packets 3-11% (bench/experiments/bvh-traversal.md).
             const std::size_t base = stack_size;
-            std::array<float, Width> keys;  // of stack entries base, base + 1, ...
             int lane_entries = 0, children_entered = 0;
             Mask entering(false);
-            // Child k onto the stack with its entry distances `t`, sorted in by its order key.
-            const auto stack_child = [&](std::size_t k, float key, const Float& t) {
+            // Child k onto the stack with its order key and, for lane tests, its entry distances
+            // *t (a frustum-only walk's lanes enter at the key: null), sorted in by the key.
+            const auto stack_child = [&](std::size_t k, float key, const Float* t) {
                 std::size_t i = stack_size++;
                 if constexpr (!AnyHit) {
-                    for (; i > base && keys[i - 1 - base] < key; --i) {
-                        keys[i - base] = keys[i - 1 - base];
-                        stack_t_entry[i] = stack_t_entry[i - 1];
+                    for (; i > base && stack_key[i - 1] < key; --i) {
+                        stack_key[i] = stack_key[i - 1];
+                        if (!frustum_only) stack_t_entry[i] = stack_t_entry[i - 1];
                         stack_ref[i] = stack_ref[i - 1];
                     }
-                    keys[i - base] = key;
                 }
-                stack_t_entry[i] = t;
+                stack_key[i] = key;
+                if (!frustum_only) stack_t_entry[i] = *t;
                 stack_ref[i] = node.child[k];
                 prefetch(node.child[k]);
             };
@@ -309,7 +314,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
                 for (; candidates != 0; candidates &= candidates - 1) {
                     const std::size_t k = std::countr_zero(candidates);
                     if (node.child[k].is_empty()) break;  // the used slots come first
-                    stack_child(k, entry_lo[k], Float(entry_lo[k]));
+                    stack_child(k, entry_lo[k], nullptr);
                 }
             } else {
                 for (; candidates != 0; candidates &= candidates - 1) {
@@ -322,7 +327,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
                         ++children_entered;
                         entering = entering | enters;
                     }
-                    stack_child(k, AnyHit ? 0.0f : group ? entry_lo[k] : simd::horizontal_min(t), t);
+                    stack_child(k, AnyHit ? 0.0f : group ? entry_lo[k] : simd::horizontal_min(t), &t);
                 }
             }
             assert(stack_size <= kStackSize);
@@ -354,7 +359,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
         for (;;) {  // pop the next node some lane still needs
             if (stack_size == 0) return blocked;
             --stack_size;
-            lanes = needing(stack_t_entry[stack_size]);
+            lanes = needing(frustum_only ? Float(stack_key[stack_size]) : stack_t_entry[stack_size]);
             if (xsimd::any(lanes)) {
                 current = stack_ref[stack_size];
                 break;
