@@ -81,34 +81,41 @@ public:
         }
     }
 
-    /// Lanes 4 * row to 4 * row + 3 to out[0..3] (8 and 16 lanes), or lanes 2 * row and
-    /// 2 * row + 1 to out[0..1] (4 lanes): a row of the packet's pixel block (image_tiles.h).
-    template <std::size_t RowLanes>
-    void store_row(std::size_t row, Hit* out) const {
-        float* const to = reinterpret_cast<float*>(out);
+    /// Every row of the packet's pixel block (image_tiles.h): lanes 4 * r to 4 * r + 3 to
+    /// row_start(r)[0..3] (8 and 16 lanes), or lanes 2 * r and 2 * r + 1 to row_start(r)[0..1]
+    /// (4 lanes). All rows at once, as the 16-lane rows share their first shuffles, and with every
+    /// shuffle's selector written out: it must be an immediate at every optimization level.
+    template <std::size_t RowLanes, class RowStart>
+    void store_rows(RowStart&& row_start) const {
+        const auto to = [&](std::size_t row) { return reinterpret_cast<float*>(row_start(row)); };
         if constexpr (kHasMaskRegisters<Arch>) {
             static_assert(RowLanes == 4);
 #if XSIMD_WITH_AVX512F
             // Row j is 128-bit lane j of quad_[0..3]: a 4 x 4 transpose of 128-bit lanes.
             const __mmask16 all = 0xFFFF;
-            const bool low_half = row < 2;
-            const Register first = _mm512_maskz_shuffle_f32x4(all, quad_[0], quad_[1], low_half ? 0x44 : 0xEE);
-            const Register second = _mm512_maskz_shuffle_f32x4(all, quad_[2], quad_[3], low_half ? 0x44 : 0xEE);
-            _mm512_storeu_ps(to, row % 2 == 0 ? _mm512_maskz_shuffle_f32x4(all, first, second, 0x88)
-                                              : _mm512_maskz_shuffle_f32x4(all, first, second, 0xDD));
+            const Register low_01 = _mm512_maskz_shuffle_f32x4(all, quad_[0], quad_[1], 0x44);  // 128-bit lanes 0, 1
+            const Register low_23 = _mm512_maskz_shuffle_f32x4(all, quad_[2], quad_[3], 0x44);
+            const Register high_01 = _mm512_maskz_shuffle_f32x4(all, quad_[0], quad_[1], 0xEE);  // lanes 2, 3
+            const Register high_23 = _mm512_maskz_shuffle_f32x4(all, quad_[2], quad_[3], 0xEE);
+            _mm512_storeu_ps(to(0), _mm512_maskz_shuffle_f32x4(all, low_01, low_23, 0x88));
+            _mm512_storeu_ps(to(1), _mm512_maskz_shuffle_f32x4(all, low_01, low_23, 0xDD));
+            _mm512_storeu_ps(to(2), _mm512_maskz_shuffle_f32x4(all, high_01, high_23, 0x88));
+            _mm512_storeu_ps(to(3), _mm512_maskz_shuffle_f32x4(all, high_01, high_23, 0xDD));
 #endif
         } else if constexpr (kIs256Bit<Arch>) {
             static_assert(RowLanes == 4);
 #if XSIMD_WITH_AVX2
-            _mm256_storeu_ps(to, row == 0 ? _mm256_permute2f128_ps(quad_[0], quad_[1], 0x20)
-                                          : _mm256_permute2f128_ps(quad_[0], quad_[1], 0x31));
-            _mm256_storeu_ps(to + 8, row == 0 ? _mm256_permute2f128_ps(quad_[2], quad_[3], 0x20)
-                                              : _mm256_permute2f128_ps(quad_[2], quad_[3], 0x31));
+            _mm256_storeu_ps(to(0), _mm256_permute2f128_ps(quad_[0], quad_[1], 0x20));
+            _mm256_storeu_ps(to(0) + 8, _mm256_permute2f128_ps(quad_[2], quad_[3], 0x20));
+            _mm256_storeu_ps(to(1), _mm256_permute2f128_ps(quad_[0], quad_[1], 0x31));
+            _mm256_storeu_ps(to(1) + 8, _mm256_permute2f128_ps(quad_[2], quad_[3], 0x31));
 #endif
         } else {
             static_assert(RowLanes == 2);
-            _mm_storeu_ps(to, quad_[2 * row]);
-            _mm_storeu_ps(to + 4, quad_[2 * row + 1]);
+            for (std::size_t row = 0; row < 2; ++row) {
+                _mm_storeu_ps(to(row), quad_[2 * row]);
+                _mm_storeu_ps(to(row) + 4, quad_[2 * row + 1]);
+            }
         }
     }
 

@@ -61,12 +61,11 @@ struct PrimaryBlock {
     void store(const HitPacket<Arch>& hits, const ImageTile& tile, std::uint32_t image_width,
                std::span<Hit> out) const {
         const simd::HitLanes<Arch> lanes(hits);
-        const auto row_start = [&](std::uint32_t row) { return out.data() + std::size_t(y0 + row) * image_width + x0; };
+        const auto row_start = [&](std::size_t row) { return out.data() + (y0 + row) * image_width + x0; };
         // A whole block, as every block of an image whose sides the block's divide, row by row
         // from registers.
         if (x0 + kBlockWidth <= tile.x1 && y0 + kBlockHeight <= tile.y1) {
-            for (std::uint32_t row = 0; row < kBlockHeight; ++row)
-                lanes.template store_row<kBlockWidth>(row, row_start(row));
+            lanes.template store_rows<kBlockWidth>(row_start);
             return;
         }
         for (std::uint32_t row = 0; row < kBlockHeight && y0 + row < tile.y1; ++row)

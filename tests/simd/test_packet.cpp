@@ -180,8 +180,7 @@ TEST_CASE("hit lanes write each lane's hit, a miss as Hit{}, by block rows and o
         // Rows into a wider image, so that a store past its row would show in the gaps.
         constexpr std::size_t stride = row_lanes + 3;
         std::vector<Hit> image(width / row_lanes * stride, Hit{7, 1.0f, 1.0f, 1.0f});
-        for (std::size_t row = 0; row < width / row_lanes; ++row)
-            lanes.template store_row<row_lanes>(row, image.data() + row * stride);
+        lanes.template store_rows<row_lanes>([&](std::size_t row) { return image.data() + row * stride; });
         std::size_t wrong = 0;
         for (std::size_t i = 0; i < width; ++i)
             wrong += !same(image[i / row_lanes * stride + i % row_lanes], expected(i));
