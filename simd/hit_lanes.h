@@ -4,7 +4,6 @@
 // four field batches leaves every lane's Hit whole in one 128-bit lane, written with one store, or
 // a row of four lanes with one 512-bit (two 256-bit) stores. HitPacket::store went through arrays
 // filled by the field batches and read back a lane at a time, then copied again into the image.
-#include <array>
 #include <cassert>
 #include <cstddef>
 #include <cstdint>

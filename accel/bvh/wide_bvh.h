@@ -139,6 +139,11 @@ public:
     const BvhOptions& options() const { return options_; }
     std::span<const Node> nodes() const { return nodes_; }
     std::span<const Block> blocks() const { return blocks_; }
+    /// The node a reference names (not a leaf's).
+    const Node& node_at(bvh::ChildRef ref) const {
+        assert(!ref.is_leaf());
+        return *reinterpret_cast<const Node*>(reinterpret_cast<const char*>(nodes_.data()) + ref.node_offset());
+    }
 
     /// The single-ray walk from `start` (the root: node 0) given the closest hit so far (`best`:
     /// kNoTriangle at the ray's tmax when none), which it returns improved. Counters: a
@@ -173,12 +178,6 @@ private:
                                             : reinterpret_cast<const char*>(&node_at(child));
         constexpr std::size_t kBytes = std::max(sizeof(Node), sizeof(Block));
         for (std::size_t offset = 0; offset < kBytes; offset += 64) __builtin_prefetch(start + offset);
-    }
-
-    /// The node a reference names (not a leaf's).
-    const Node& node_at(bvh::ChildRef ref) const {
-        assert(!ref.is_leaf());
-        return *reinterpret_cast<const Node*>(reinterpret_cast<const char*>(nodes_.data()) + ref.node_offset());
     }
 
     HugePageArray<Node> nodes_;

@@ -76,7 +76,7 @@ class TileCuller {
 public:
     template <class Structure>
     TileCuller(const Structure& structure, const Camera& camera) : camera_(camera) {
-        if constexpr (requires { structure.nodes()[0].child[0].is_empty(); }) {
+        if constexpr (requires { structure.node_at(structure.nodes()[0].child[0]); }) {
             const auto nodes = structure.nodes();
             if (nodes.empty()) return;
             using Node = typename decltype(nodes)::value_type;
@@ -90,7 +90,7 @@ public:
             const Node& root = nodes[0];
             for (std::size_t k = 0; k < root.width && !root.child[k].is_empty(); ++k) {
                 if (!add_child(root, k, boxes_) || root.child[k].is_leaf()) continue;
-                const Node& child = nodes[root.child[k].node_offset() / sizeof(Node)];
+                const Node& child = structure.node_at(root.child[k]);
                 Box& box = boxes_.back();
                 box.first_below = below_.size();
                 for (std::size_t j = 0; j < child.width && !child.child[j].is_empty(); ++j) add_child(child, j, below_);
