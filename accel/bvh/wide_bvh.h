@@ -34,6 +34,7 @@
 #include "core/huge_page_array.h"
 #include "core/intersect_triangle.h"
 #include "core/mesh.h"
+#include "core/prefetch.h"
 #include "core/ray_coherence.h"
 #include "simd/lanes.h"
 #include "simd/packet.h"
@@ -177,7 +178,7 @@ private:
         const char* start = child.is_leaf() ? reinterpret_cast<const char*>(blocks_.data() + child.first_block())
                                             : reinterpret_cast<const char*>(&node_at(child));
         constexpr std::size_t kBytes = std::max(sizeof(Node), sizeof(Block));
-        for (std::size_t offset = 0; offset < kBytes; offset += 64) __builtin_prefetch(start + offset);
+        for (std::size_t offset = 0; offset < kBytes; offset += 64) prefetch_line(start + offset);
     }
 
     HugePageArray<Node> nodes_;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/intersect_triangle.h"
+#include "core/prefetch.h"
 
 namespace trident::bvh {
 
@@ -19,10 +20,25 @@ namespace {
 
 /// Per leaf-order triangle: whether it has area, in parallel. The areas are found in file order,
 /// which reads the mesh front to back, and then looked up in leaf order.
+/// Asks for the coordinates of a triangle's corners, each in three arrays (Mesh), ahead of their use.
+void prefetch_corners(const Mesh& mesh, const IndexTriple& corners) {
+    for (const std::uint32_t v : {corners.v0, corners.v1, corners.v2}) {
+        prefetch_line(&mesh.x[v]);
+        prefetch_line(&mesh.y[v]);
+        prefetch_line(&mesh.z[v]);
+    }
+}
+
 std::vector<char> triangles_with_area(const Mesh& mesh, std::span<const TriangleId> ids) {
     std::vector<char> by_id(mesh.triangle_count()), out(ids.size());
+    // File order reads the index triples front to back, but their corners lie anywhere in the
+    // vertex arrays: asked for 16 triangles ahead, this pass took 6.3 ms instead of 7.6 on Gallery.
+    constexpr std::size_t kCornersAhead = 16;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, by_id.size(), 4096), [&](const auto& range) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i) by_id[i] = has_area(triangle_of(mesh, i));
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            if (i + kCornersAhead < by_id.size()) prefetch_corners(mesh, mesh.triangles[i + kCornersAhead]);
+            by_id[i] = has_area(triangle_of(mesh, i));
+        }
     });
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ids.size(), 4096), [&](const auto& range) {
         for (std::size_t i = range.begin(); i != range.end(); ++i) out[i] = by_id[ids[i]];
@@ -131,12 +147,19 @@ CollapsePlan<Width> plan_collapse(std::span<const BvhNode> nodes, std::span<cons
         std::array<std::uint8_t, Width> left_share{};
         shared[0] = std::numeric_limits<double>::infinity();
         for (std::size_t s = 2; s <= usable; ++s) {
-            shared[s - 1] = std::numeric_limits<double>::infinity();
+            // The cheapest share, the first at equal cost, kept in selects: branching on each
+            // compare mispredicted, and the programme took 20 ms on Gallery instead of 14.5.
+            double cheapest = std::numeric_limits<double>::infinity();
+            std::uint8_t share = 0;
             const std::size_t first = s > right.leaves ? s - right.leaves : 1, last = std::min(s - 1, left.leaves);
             for (std::size_t k = first; k <= last; ++k) {
                 const double c = left.cost[k - 1] + right.cost[s - k - 1];
-                if (c < shared[s - 1]) shared[s - 1] = c, left_share[s - 1] = std::uint8_t(k);
+                const bool cheaper = c < cheapest;
+                cheapest = cheaper ? c : cheapest;
+                share = cheaper ? std::uint8_t(k) : share;
             }
+            shared[s - 1] = cheapest;
+            left_share[s - 1] = share;
         }
         SubtreeCost own{{}, left.leaves + right.leaves};
         const double as_node = area * kNodeStepCost + node_memory + shared[usable - 1];
@@ -290,9 +313,22 @@ WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, co
         }
     });
     out.blocks.resize(block_count);
+    // Leaf order jumps about the mesh, and a triangle's corners lie at the end of a chain of
+    // loads: its id, its index triple, then each corner's x, y and z. Waiting on that chain
+    // triangle by triangle took a third of the collapse's time (perf), so each link is asked for
+    // ahead of its use: the index triple kIndicesAhead triangles on, the corners kCornersAhead on
+    // (their triple asked for before). Gallery's blocks took 14 ms instead of 25.
+    constexpr std::size_t kIndicesAhead = 64, kCornersAhead = 32;
+    const auto prefetch_ahead = [&](std::size_t position) {
+        if (position + kIndicesAhead < leaf_sources.size())
+            prefetch_line(&mesh.triangles[ids[leaf_sources[position + kIndicesAhead]]]);
+        if (position + kCornersAhead < leaf_sources.size())
+            prefetch_corners(mesh, mesh.triangles[ids[leaf_sources[position + kCornersAhead]]]);
+    };
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 1024), [&](const auto& range) {
         for (std::size_t l = range.begin(); l != range.end(); ++l) {
             const PlannedLeaf& leaf = leaves[l];
+            for (std::uint32_t k = 0; k < leaf.triangle_count; ++k) prefetch_ahead(leaf.first_source + k);
             for (std::uint32_t k = 0; k < (leaf.triangle_count + BlockSize - 1) / BlockSize * BlockSize; ++k) {
                 // Past the leaf's last triangle, the padding repeats it.
                 const std::uint32_t source = leaf_sources[leaf.first_source + std::min(k, leaf.triangle_count - 1)];
