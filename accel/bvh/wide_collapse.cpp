@@ -18,8 +18,6 @@ namespace trident::bvh {
 
 namespace {
 
-/// Per leaf-order triangle: whether it has area, in parallel. The areas are found in file order,
-/// which reads the mesh front to back, and then looked up in leaf order.
 /// Asks for the coordinates of a triangle's corners, each in three arrays (Mesh), ahead of their use.
 void prefetch_corners(const Mesh& mesh, const IndexTriple& corners) {
     for (const std::uint32_t v : {corners.v0, corners.v1, corners.v2}) {
@@ -29,6 +27,8 @@ void prefetch_corners(const Mesh& mesh, const IndexTriple& corners) {
     }
 }
 
+/// Per leaf-order triangle: whether it has area, in parallel. The areas are found in file order,
+/// which reads the mesh front to back, and then looked up in leaf order.
 std::vector<char> triangles_with_area(const Mesh& mesh, std::span<const TriangleId> ids) {
     std::vector<char> by_id(mesh.triangle_count()), out(ids.size());
     // File order reads the index triples front to back, but their corners lie anywhere in the
