@@ -12,7 +12,7 @@ namespace trident {
 /// The formula: the reference the table is made from and tested against.
 std::uint8_t gamma_byte_formula(float linear);
 
-/// gamma_byte_formula(linear) by a binary search of the table; NaN gives 0.
+/// gamma_byte_formula(linear) from the tables, one load and one compare; NaN gives 0.
 std::uint8_t gamma_byte(float linear);
 
 }  // namespace trident

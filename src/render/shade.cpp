@@ -1,14 +1,12 @@
 #include "render/shade.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 
 #include "core/ray_offset.h"
 #include "render/gamma.h"
+#include "render/image_tiles.h"
 #include "render/ray_stream.h"
 #include "render/secondary_rays.h"
 
@@ -17,15 +15,14 @@ namespace {
 
 Rgb8 to_rgb(const Vec3f& linear) { return {gamma_byte(linear.x), gamma_byte(linear.y), gamma_byte(linear.z)}; }
 
-/// per_pixel(x, y, i) for every pixel (i = y * width + x), the rows shared among the threads: a
-/// pixel's shading reads its own hit and writes its own pixel. Serial, this loop took most of a
-/// shaded render's shading time on Teapot.
+/// per_pixel(x, y, i) for every pixel (i = y * width + x), tile by tile on the renderer's threads
+/// (image_tiles.h): a pixel's shading reads its own hit and writes its own pixel. Serial, this
+/// loop took most of a shaded render's shading time on Teapot.
 template <class PerPixel>
 void for_each_pixel(const Camera& camera, PerPixel&& per_pixel) {
-    const std::uint32_t w = camera.width();
-    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, camera.height()), [&](const auto& rows) {
-        for (std::uint32_t y = rows.begin(); y != rows.end(); ++y)
-            for (std::uint32_t x = 0; x < w; ++x) per_pixel(x, y, std::size_t(y) * w + x);
+    for_each_image_tile(camera, [&](const ImageTile& tile) {
+        for (std::uint32_t y = tile.y0; y != tile.y1; ++y)
+            for (std::uint32_t x = tile.x0; x != tile.x1; ++x) per_pixel(x, y, std::size_t(y) * camera.width() + x);
     });
 }
 

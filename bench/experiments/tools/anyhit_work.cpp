@@ -15,8 +15,6 @@
 // ones it traces (tmax > tmin), in its order; the wide BVH as `--accel bvh` builds it by default.
 #include <cstdio>
 #include <cstdlib>
-#include <string>
-#include <utility>
 
 #include "accel/any_accel.h"
 #include "bench/ray_sets.h"
