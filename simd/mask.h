@@ -1,5 +1,5 @@
 #pragma once
-// Lane-mask helpers xsimd 8.1 lacks: a mask as bits, the count and first of its set lanes, a
+// Lane-mask helpers xsimd 8.1 lacks: a mask as bits and back, the count and first of its set lanes, a
 // select of 32-bit integers (triangle ids) by a float mask, and a horizontal min.
 // Each width has its own mask representation: a vector of all-ones/all-zeros lanes up to AVX2,
 // a k-register (one bit a lane) from AVX-512 on.
@@ -30,6 +30,33 @@ std::uint32_t mask_bits(const xsimd::batch_bool<float, Arch>& mask) {
     } else {
         static_assert(kIs128Bit<Arch>, "no mask helpers for this architecture");
         return static_cast<std::uint32_t>(_mm_movemask_ps(mask));
+    }
+}
+
+/// The mask whose lane i is set when bit i of `bits` is: mask_bits' inverse, for masks kept as
+/// bits (four bytes where a vector mask of 8 lanes takes 32).
+template <class Arch>
+xsimd::batch_bool<float, Arch> mask_from_bits(std::uint32_t bits) {
+    using Mask = xsimd::batch_bool<float, Arch>;
+    if constexpr (kHasMaskRegisters<Arch>) {
+        return Mask(static_cast<typename Mask::register_type>(bits));
+    } else {
+        // Each lane's own bit, compared: registers spelled through Arch, as select_index says.
+        using Ids = xsimd::batch<std::uint32_t, Arch>;
+        using IdRegister = typename Ids::register_type;
+        alignas(32) static constexpr std::array<std::uint32_t, Mask::size> kLaneBit = [] {
+            std::array<std::uint32_t, Mask::size> out{};
+            for (std::size_t i = 0; i < Mask::size; ++i) out[i] = 1u << i;
+            return out;
+        }();
+        const IdRegister lane_bit = Ids::load_aligned(kLaneBit.data()), all = Ids(bits);
+        if constexpr (kIs256Bit<Arch>) {
+            static_assert(std::is_base_of_v<xsimd::avx2, Arch>, "256-bit integer compares need AVX2");
+            return Mask(_mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(all, lane_bit), lane_bit)));
+        } else {
+            static_assert(kIs128Bit<Arch>, "no mask helpers for this architecture");
+            return Mask(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(all, lane_bit), lane_bit)));
+        }
     }
 }
 

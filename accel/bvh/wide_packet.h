@@ -267,8 +267,15 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
     // entry bound), so it keeps no batches: the sorted insert moved a 64-byte batch for each key
     // it passed and wrote one per child entered, whose lines perf put at about 5% of Room's
     // 16-lane primary packets; without them the interiors' rows ran 1.00-1.07x as fast (A/B).
+    // Any-hit lane tests keep the entering lanes as bits instead (Embree's occludedCoherent keeps
+    // a mask too): an any-hit lane's limit stays its tmax until it is blocked, so a lane that
+    // entered a child still needs it unless blocked since, and the pop's compare of distances
+    // said nothing more. Shadow packets ran 0.97-1.00x the time with them (two A/Bs, 3 and 4
+    // rounds, seven scenes, 8 and 16 lanes; bench/experiments/bvh-traversal.md).
     Float stack_t_entry[kStackSize];
     float stack_key[kStackSize];
+    std::uint32_t stack_lanes[kStackSize];
+    const bool lane_bits = AnyHit && !frustum_only;
     bvh::ChildRef stack_ref[kStackSize];
     std::size_t stack_size = 0;
     bvh::ChildRef current = bvh::ChildRef::node_at(0);
@@ -295,8 +302,9 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
             int lane_entries = 0, children_entered = 0;
             Mask entering(false);
             // Child k onto the stack with its order key and, for lane tests, its entry distances
-            // *t (a frustum-only walk's lanes enter at the key: null), sorted in by the key.
-            const auto stack_child = [&](std::size_t k, float key, const Float* t) {
+            // *t, or for any hit its entering lanes' bits (a frustum-only walk's lanes enter at
+            // the key: neither), sorted in by the key.
+            const auto stack_child = [&](std::size_t k, float key, const Float* t, std::uint32_t bits) {
                 std::size_t i = stack_size++;
                 if constexpr (!AnyHit) {
                     for (; i > base && stack_key[i - 1] < key; --i) {
@@ -306,7 +314,10 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
                     }
                 }
                 stack_key[i] = key;
-                if (!frustum_only) stack_t_entry[i] = *t;
+                if (lane_bits)
+                    stack_lanes[i] = bits;
+                else if (!frustum_only)
+                    stack_t_entry[i] = *t;
                 stack_ref[i] = node.child[k];
                 prefetch(node.child[k]);
             };
@@ -314,7 +325,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
                 for (; candidates != 0; candidates &= candidates - 1) {
                     const std::size_t k = std::countr_zero(candidates);
                     if (node.child[k].is_empty()) break;  // the used slots come first
-                    stack_child(k, entry_lo[k], nullptr);
+                    stack_child(k, entry_lo[k], nullptr, 0);
                 }
             } else {
                 for (; candidates != 0; candidates &= candidates - 1) {
@@ -327,7 +338,8 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
                         ++children_entered;
                         entering = entering | enters;
                     }
-                    stack_child(k, AnyHit ? 0.0f : group ? entry_lo[k] : simd::horizontal_min(t), &t);
+                    stack_child(k, AnyHit ? 0.0f : group ? entry_lo[k] : simd::horizontal_min(t), &t,
+                                AnyHit ? simd::mask_bits(enters) : 0u);
                 }
             }
             assert(stack_size <= kStackSize);
@@ -359,7 +371,8 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
         for (;;) {  // pop the next node some lane still needs
             if (stack_size == 0) return blocked;
             --stack_size;
-            lanes = needing(frustum_only ? Float(stack_key[stack_size]) : stack_t_entry[stack_size]);
+            lanes = lane_bits ? live & !blocked & simd::mask_from_bits<Arch>(stack_lanes[stack_size])
+                              : needing(frustum_only ? Float(stack_key[stack_size]) : stack_t_entry[stack_size]);
             if (xsimd::any(lanes)) {
                 current = stack_ref[stack_size];
                 break;

@@ -38,7 +38,7 @@ const std::vector<float> kSpecials = {0.0f,      -0.0f,      1.0f, -1.0f,  2.5f,
 
 }  // namespace
 
-TEST_CASE("mask_bits, lane count, first lane and index select agree with every lane pattern") {
+TEST_CASE("mask_bits and back, lane count, first lane and index select agree with every lane pattern") {
     for_each_packet_arch([]<class Arch>() {
         using Mask = xsimd::batch_bool<float, Arch>;
         using Ids = xsimd::batch<std::uint32_t, Arch>;
@@ -50,6 +50,11 @@ TEST_CASE("mask_bits, lane count, first lane and index select agree with every l
             simd::select_index(mask, Ids(7u), Ids(3u)).store_unaligned(selected.data());
             bool selects_right = true;
             for (std::size_t i = 0; i < width; ++i) selects_right &= selected[i] == ((pattern >> i) & 1u ? 7u : 3u);
+            // The mask built from the bits, read lane by lane through a select.
+            using Float = xsimd::batch<float, Arch>;
+            std::array<float, width> from_bits;
+            xsimd::select(simd::mask_from_bits<Arch>(pattern), Float(1.0f), Float(0.0f)).store_unaligned(from_bits.data());
+            for (std::size_t i = 0; i < width; ++i) selects_right &= from_bits[i] == ((pattern >> i) & 1u ? 1.0f : 0.0f);
             const int first = pattern == 0 ? int(width) : std::countr_zero(pattern);
             if (simd::mask_bits(mask) != pattern || simd::active_lane_count(mask) != std::popcount(pattern) ||
                 simd::first_active_lane(mask) != first || !selects_right)
