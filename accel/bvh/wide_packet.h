@@ -270,7 +270,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
     // Any-hit lane tests keep the entering lanes as bits instead (Embree's occludedCoherent keeps
     // a mask too): an any-hit lane's limit stays its tmax until it is blocked, so a lane that
     // entered a child still needs it unless blocked since, and the pop's compare of distances
-    // said nothing more. Shadow packets ran 0.97-1.00x the time with them (two A/Bs, 3 and 4
+    // said nothing more. Shadow packets ran 0.97-1.01x the time with them (two A/Bs, 3 and 4
     // rounds, seven scenes, 8 and 16 lanes; bench/experiments/bvh-traversal.md).
     Float stack_t_entry[kStackSize];
     float stack_key[kStackSize];
