@@ -22,6 +22,7 @@
 #include "support/packet_agreement.h"
 #include "support/random_scenes.h"
 #include "support/reference_check.h"
+#include "support/sanitizer_workload.h"
 
 using namespace trident;
 using namespace trident::testing;
@@ -445,28 +446,33 @@ TEST_CASE("packets from one point walk by the frustum alone and give every lane 
         REQUIRE(moved_group.has_value());
         CHECK_FALSE(moved_group->shares_origin());
     });
+    // A quarter of the rays under the sanitizers (support/sanitizer_workload.h): still 5 to 10
+    // packets of 16 lanes per call.
+    const std::size_t many = testing::workload(640, 4), some = testing::workload(320, 4);
     for_each_wide_tree(soup, {}, [&](const auto& wide) {
         using Tree = std::decay_t<decltype(wide)>;
-        check_packets(wide, rays_from_one_point(soup.bounds(), 640, 58));
+        check_packets(wide, rays_from_one_point(soup.bounds(), many, 58));
         check_packets<Tree::width, Tree::block_size, TriangleTest::moller_trumbore>(
-            wide, rays_from_one_point(soup.bounds(), 320, 59));
-        check_packets(wide, rays_from_one_point(soup.bounds(), 320, 60), [](std::size_t lane) { return lane % 3 == 1; });
+            wide, rays_from_one_point(soup.bounds(), some, 59));
+        check_packets(wide, rays_from_one_point(soup.bounds(), some, 60),
+                      [](std::size_t lane) { return lane % 3 == 1; });
     });
     for_each_wide_tree(lattice, {}, [&](const auto& wide) {
-        check_packets(wide, rays_from_one_point(lattice.bounds(), 640, 61, 8));  // through edges and vertices
+        check_packets(wide, rays_from_one_point(lattice.bounds(), many, 61, 8));  // through edges and vertices
     });
     BvhOptions spatial;
     spatial.builder = BvhBuilder::spatial_sah;
     const Mesh large = soup_with_large_triangles(1500, 20, 62);
     for_each_wide_tree(large, spatial,
-                       [&](const auto& wide) { check_packets(wide, rays_from_one_point(large.bounds(), 640, 63)); });
+                       [&](const auto& wide) { check_packets(wide, rays_from_one_point(large.bounds(), many, 63)); });
 }
 
 TEST_CASE("wide packets give every lane the wide single ray's hit bit for bit") {
     const Mesh soup = random_soup(700, 51, 0.15f);
-    const std::vector<Ray> incoherent = random_rays(soup.bounds(), 400, 52);
-    const std::vector<Ray> every_sign = rays_of_every_sign({0.05f, -0.1f, 0.2f}, 640, 53);
-    const std::vector<Ray> windowed = windowed_rays_from_inside(soup.bounds(), 400, 54);
+    // A quarter of the rays under the sanitizers (support/sanitizer_workload.h).
+    const std::vector<Ray> incoherent = random_rays(soup.bounds(), testing::workload(400, 4), 52);
+    const std::vector<Ray> every_sign = rays_of_every_sign({0.05f, -0.1f, 0.2f}, testing::workload(640, 4), 53);
+    const std::vector<Ray> windowed = windowed_rays_from_inside(soup.bounds(), testing::workload(400, 4), 54);
     for_each_wide_tree(soup, {}, [&](const auto& wide) {
         using Tree = std::decay_t<decltype(wide)>;
         check_packets(wide, incoherent);
@@ -485,12 +491,16 @@ TEST_CASE("wide packets give every lane the wide single ray's hit bit for bit") 
         check_packets(wide, shuffled);
     });
     const Scene& teapot = builtin_scene("teapot");
-    const std::vector<Ray> blocks = pixel_block_rays(teapot.camera, 320, 180, 4, 4, 200, 55);
+    const std::vector<Ray> blocks = pixel_block_rays(teapot.camera, 320, 180, 4, 4, testing::workload(200, 4), 55);
     for_each_wide_tree(teapot.mesh, {}, [&](const auto& wide) { check_packets(wide, blocks); });
-    // Over a tree this large, incoherent packets go alone from the root (wide_packet_switch).
+    // Over a tree this large, incoherent packets go alone from the root (wide_packet_switch). Built
+    // binned: the switch depends on the block count, not the builder, and the default's spatial
+    // splits of 40,960 triangles were a fifth of this case's time under the sanitizers.
     const Mesh many = random_soup(5 * kIncoherentAloneMinBlocks, 56, 0.02f);
-    const std::vector<Ray> through_many = random_rays(many.bounds(), 200, 57);
-    for_each_wide_tree(many, {}, [&](const auto& wide) {
+    const std::vector<Ray> through_many = random_rays(many.bounds(), testing::workload(200, 4), 57);
+    BvhOptions binned;
+    binned.builder = BvhBuilder::binned_sah;
+    for_each_wide_tree(many, binned, [&](const auto& wide) {
         REQUIRE(wide.blocks().size() >= kIncoherentAloneMinBlocks);
         check_packets(wide, through_many);
     });
