@@ -27,6 +27,7 @@
 #   portable   the portable build (build-portable/, what `run.sh test` and users get) against this
 #              native one on the same rays, in pairs seconds apart (bench/compare_builds.py): the
 #              built-in scenes, every structure, width and ray kind, one thread.
+#   portable_self  the same with the native build on both sides (Teapot and Asteroid): the method's noise.
 #   avx2       the portable build under TRIDENT_ISA=avx2 (the kernels of a CPU without AVX-512, such as
 #              the study's Ryzen) against Embree limited to AVX2, the study's scenes at 960x540, wide BVH
 #              single rays and 8-lane packets, every ray kind, one thread, paired.
@@ -47,7 +48,7 @@ charts=bench/charts
 python=/usr/bin/python3  # Debian's, which has matplotlib
 
 only=() repeats=() primary_size=(--width 1920 --height 1080) secondary_size=(--width 960 --height 540)
-portable_scenes=teapot,asteroid,hall portable_rounds=3 portable_size=(--width 640 --height 360) setup=yes
+portable_scenes=teapot,asteroid,hall portable_self_scenes=teapot,asteroid portable_rounds=3 portable_size=(--width 640 --height 360) setup=yes
 python_args=(--rounds 5)
 placeholder=""
 case "${1:-}" in
@@ -55,7 +56,7 @@ case "${1:-}" in
     --quick)
         only=(--only teapot,sponza) repeats=(--repeats 1)
         primary_size=(--width 160 --height 90) secondary_size=(--width 160 --height 90)
-        portable_scenes=teapot portable_rounds=1 portable_size=(--width 160 --height 90) setup=""
+        portable_scenes=teapot portable_self_scenes=teapot portable_rounds=1 portable_size=(--width 160 --height 90) setup=""
         python_args=(--only teapot,sponza --width 160 --height 90 --rounds 1 --repeats 1)
         placeholder="Made by \`bash bench/reproduce.sh --quick\` (Teapot and Sponza at 160x90, one timed run each)."
         ;;
@@ -126,6 +127,12 @@ step portable $python bench/compare_builds.py build-portable/trident-bench $benc
     --each-scene $portable_scenes --each-accel bvh,bvh2,kdtree,octree --json $out/portable.json \
     --markdown $out/portable.md -- --simd scalar,simd4,simd8,simd16 --rays primary,shadow,diffuse --threads 1 \
     --embree none "${portable_size[@]}"
+# The same method with the native build on both sides: every row's ratio is 1 but for the machine's
+# noise, which a row of the step above must be read against (issue 34's 0.97x).
+step portable_self $python bench/compare_builds.py $bench $bench --rounds $portable_rounds \
+    --each-scene $portable_self_scenes --each-accel bvh,bvh2,kdtree,octree --json $out/portable_self.json \
+    --markdown $out/portable_self.md -- --simd scalar,simd4,simd8,simd16 --rays primary,shadow,diffuse --threads 1 \
+    --embree none "${portable_size[@]}"
 # AVX2 as users have it (issue 34): the cap gives Embree max_isa=avx2 too.
 step avx2 env TRIDENT_ISA=avx2 build-portable/trident-bench --scenes $scenes "${only[@]}" --accel bvh \
     --rays primary,shadow,diffuse --simd scalar,simd8 --threads 1 --embree 1,8 --paired embree "${secondary_size[@]}" \
@@ -168,7 +175,7 @@ run = {"commit": commit, "dirty": dirty != "0", "date": date, "steps": steps,
        "charts": charts}
 if os.path.exists(os.path.join(os.path.dirname(manifest), "avx2.json")):
     run["runs"].append({"name": "avx2", "json": "avx2.json"})
-for name in ("portable", "setup", "python", "caps"):
+for name in ("portable", "portable_self", "setup", "python", "caps"):
     if os.path.exists(os.path.join(os.path.dirname(manifest), name + ".json")):
         run[name] = name + ".json"
 if placeholder:

@@ -156,6 +156,8 @@ class RunSet:
         # The portable build against the native one (bench/compare_builds.py) and the clean-clone
         # times of run.sh (bench/time_setup.sh): optional, and of the same machine when present.
         self.portable = self.extra("portable", lambda data: data["machine"]["cpu"])
+        # The native build against itself by the same method: the method's own noise on this machine.
+        self.portable_self = self.extra("portable_self", lambda data: data["machine"]["cpu"])
         self.setup = self.extra("setup", lambda data: data["cpu"])
         # The Python module against the C++ renderer (bench/python_bench.py).
         self.python = self.extra("python", lambda data: data["machine"]["cpu"])
@@ -393,6 +395,14 @@ def portable_section(runs):
     every = [r["median"] for r in rows]
     out += ["", "{} rows; their medians {}, the median of those {}.".format(len(every), span(every),
                                                                            two(statistics.median(every)))]
+    control = runs.portable_self
+    if control is not None:
+        # A ratio of 1 by construction: how far a row's median strays from it is the method's noise.
+        medians = [r["median"] for r in control["rows"]]
+        out += ["", "The method's noise: the native build against itself, the same way ({}, scenes `{}`): {} rows, "
+                "their medians {}, {} of them under 0.97. Command: `{}`.".format(
+                    plural(control["rounds"], "round"), control["each_scene"], len(medians), span(medians),
+                    sum(m < 0.97 for m in medians), step_command(runs, "portable_self") or "-")]
     return out
 
 

@@ -309,6 +309,19 @@ class PortableAndSetup(RunSetFixture):
         self.assertIn("| `bash run.sh test` | 10.0 |", setup)
         self.assertIn("| `bash run.sh bench` | 5.5 |", setup)
 
+    def test_the_methods_noise_when_measured(self):
+        self.assertNotIn("The method's noise", self.page())
+        rows = [dict(row, median=median) for row, median in zip(portable_rows(), (1.01, 0.96, 0.99, 1.02))]
+        self.write("portable_self.json", {"rounds": 3, "each_scene": "simple", "machine": dict(MACHINE),
+                                          "rows": rows})
+        self.manifest.update(portable_self="portable_self.json")
+        self.manifest["steps"].append({"name": "portable_self", "seconds": 30, "command": "compare_builds.py self"})
+        self.write("run.json", self.manifest)
+        portable = self.section(self.page(), "## The portable build against the native one")
+        self.assertIn("The method's noise: the native build against itself, the same way (3 rounds, scenes "
+                      "`simple`): 4 rows, their medians 0.96–1.02, 1 of them under 0.97. "
+                      "Command: `compare_builds.py self`.", portable)
+
     def test_their_targets(self):
         targets = self.section(self.page(), "## Targets not met")
         portable = self.table_row(targets, "34")
