@@ -48,7 +48,8 @@ charts=bench/charts
 python=/usr/bin/python3  # Debian's, which has matplotlib
 
 only=() repeats=() primary_size=(--width 1920 --height 1080) secondary_size=(--width 960 --height 540)
-portable_scenes=teapot,asteroid,hall portable_self_scenes=teapot,asteroid portable_rounds=3 portable_size=(--width 640 --height 360) setup=yes
+portable_scenes=teapot,asteroid,hall portable_self_scenes=teapot,asteroid portable_rounds=3
+portable_size=(--width 640 --height 360) setup=yes
 python_args=(--rounds 5)
 placeholder=""
 case "${1:-}" in
@@ -56,7 +57,8 @@ case "${1:-}" in
     --quick)
         only=(--only teapot,sponza) repeats=(--repeats 1)
         primary_size=(--width 160 --height 90) secondary_size=(--width 160 --height 90)
-        portable_scenes=teapot portable_self_scenes=teapot portable_rounds=1 portable_size=(--width 160 --height 90) setup=""
+        portable_scenes=teapot portable_self_scenes=teapot portable_rounds=1
+        portable_size=(--width 160 --height 90) setup=""
         python_args=(--only teapot,sponza --width 160 --height 90 --rounds 1 --repeats 1)
         placeholder="Made by \`bash bench/reproduce.sh --quick\` (Teapot and Sponza at 160x90, one timed run each)."
         ;;
@@ -123,16 +125,16 @@ step spatial $bench --scenes $scenes "${only[@]}" --accel bvh --bvh-builder spat
 step binned $bench --scenes $scenes "${only[@]}" --accel bvh,bvh2 --bvh-builder binned --rays primary --simd scalar \
     --threads 1 --embree 1 --width 320 --height 180 "${repeats[@]}" --quiet --json $out/binned.json \
     --csv $out/binned.csv
+# The rows both portable steps time (after --each-scene): every structure, width and ray kind.
+portable_rows=(--each-accel bvh,bvh2,kdtree,octree -- --simd scalar,simd4,simd8,simd16 --rays primary,shadow,diffuse
+               --threads 1 --embree none "${portable_size[@]}")
 step portable $python bench/compare_builds.py build-portable/trident-bench $bench --rounds $portable_rounds \
-    --each-scene $portable_scenes --each-accel bvh,bvh2,kdtree,octree --json $out/portable.json \
-    --markdown $out/portable.md -- --simd scalar,simd4,simd8,simd16 --rays primary,shadow,diffuse --threads 1 \
-    --embree none "${portable_size[@]}"
+    --json $out/portable.json --markdown $out/portable.md --each-scene $portable_scenes "${portable_rows[@]}"
 # The same method with the native build on both sides: every row's ratio is 1 but for the machine's
 # noise, which a row of the step above must be read against (issue 34's 0.97x).
 step portable_self $python bench/compare_builds.py $bench $bench --rounds $portable_rounds \
-    --each-scene $portable_self_scenes --each-accel bvh,bvh2,kdtree,octree --json $out/portable_self.json \
-    --markdown $out/portable_self.md -- --simd scalar,simd4,simd8,simd16 --rays primary,shadow,diffuse --threads 1 \
-    --embree none "${portable_size[@]}"
+    --json $out/portable_self.json --markdown $out/portable_self.md --each-scene $portable_self_scenes \
+    "${portable_rows[@]}"
 # AVX2 as users have it (issue 34): the cap gives Embree max_isa=avx2 too.
 step avx2 env TRIDENT_ISA=avx2 build-portable/trident-bench --scenes $scenes "${only[@]}" --accel bvh \
     --rays primary,shadow,diffuse --simd scalar,simd8 --threads 1 --embree 1,8 --paired embree "${secondary_size[@]}" \

@@ -169,6 +169,8 @@ TEST_CASE("rays kept in arrays, traced tile by tile, equal single rays in every 
             six.insert(six.end(), {ray.origin.x, ray.origin.y, ray.origin.z, ray.dir.x, ray.dir.y, ray.dir.z});
             directions.insert(directions.end(), {ray.dir.x, ray.dir.y, ray.dir.z});
         }
+    REQUIRE(rays.size() > run);       // the list's rows: more than one
+    REQUIRE(rays.size() % run != 0);  // the last one short
     const Vec3f eye = rays[0].origin;
     const float shared_origin[3] = {eye.x, eye.y, eye.z};
     const StridedRays six_float{
