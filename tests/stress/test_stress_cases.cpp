@@ -14,12 +14,12 @@ namespace trident {
 namespace {
 
 // Fewer rays under the sanitizers (support/sanitizer_workload.h): every case, structure, width and
-// query still runs.
-constexpr std::size_t kRaysPerCase = testing::workload(1500, 5);
+// query still runs, on 150 rays (ten 16-lane packets) and the brute force's sanity row on 30.
+constexpr std::size_t kRaysPerCase = testing::workload(1500, 10);
 
 TEST_CASE("every stress case passes on every structure, width and query") {
     StressRunOptions options;
-    options.brute_rays = testing::workload(300, 3);
+    options.brute_rays = testing::workload(300, 10);
     for (const StressCaseInfo& info : stress_cases()) {
         const StressCase stress_case = make_stress_case(info.name, kRaysPerCase, 42);
         REQUIRE(stress_case.rays.size() == kRaysPerCase);
