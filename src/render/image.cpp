@@ -11,10 +11,10 @@ namespace trident {
 static_assert(sizeof(Rgb8) == 3, "pixels are written as packed RGB");
 
 void write_png(const std::filesystem::path& path, const Image& image) {
-    // stb's defaults (level 8, the best of five filters tried on every row) took longer to write the
-    // teapot's 1920x1080 render than to trace and shade it. One filter, each row against the one above, at
-    // level 4 wrote Sponza, a heat map and the teapot 1.85-2.0x as fast, in files -2% to +6% the size
-    // (bench/experiments/png_output.md).
+    // stb's defaults (level 8, the best of five filters tried on every row) took longer to write
+    // the teapot's 1920x1080 render than to trace and shade it. One filter, each row against the
+    // one above, at level 4 wrote Sponza, a heat map and the teapot 1.85-2.0x as fast, in files -2%
+    // to +6% the size (bench/experiments/png_output.md).
     stbi_write_png_compression_level = 4;
     stbi_write_force_png_filter = 2;  // "up"
     const int stride = int(image.width) * 3;

@@ -7,8 +7,8 @@
 // cases trace fewer rays there, and the scene loops stop at the asteroid's 144,500 triangles:
 // the city's million took most of a minute per structure to build, and the hall's 294,000 about
 // 20 s of the run's 288 s of tests (the builders meet large triangles and spatial splits in cases
-// of their own). The Release run keeps the full workloads, the hall and
-// the city included. bench/experiments/test_time.md has the figures.
+// of their own). The Release run keeps the full workloads, the hall and the city included.
+// bench/experiments/test_time.md has the figures.
 #include <algorithm>
 #include <cstddef>
 #include <string>
