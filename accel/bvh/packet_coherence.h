@@ -18,6 +18,7 @@ namespace trident {
 inline constexpr int kWideSingleRayLanes = 1;
 inline constexpr float kCoherentCosine = 0.9f;
 inline constexpr float kIncoherentMinLaneUse = 0.5f;
+inline constexpr std::size_t kIncoherentLaneUseLevels = 2;
 inline constexpr std::size_t kIncoherentAloneMinBlocks = 8192;
 
 namespace bvh {

@@ -38,6 +38,8 @@ WideBvh<Width, BlockSize> WideBvh<Width, BlockSize>::build(const Mesh& mesh, con
     result.options_.builder = builder;  // what built the tree, automatic resolved
     result.nodes_ = std::move(wide.nodes);
     result.blocks_ = std::move(wide.blocks);
+    result.lane_use_end_ =
+        std::uint32_t(bvh::nodes_above_level<Width>(result.nodes_, kIncoherentLaneUseLevels) * sizeof(Node));
     AccelStats& stats = result.stats_;
     stats.structure = "bvh" + std::to_string(Width);
     stats.triangles = mesh.triangle_count();

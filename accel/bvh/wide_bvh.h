@@ -44,15 +44,18 @@ namespace trident {
 namespace bvh {
 
 /// When the packet walk hands lanes to the single-ray walk: at a subtree that at most
-/// `single_ray_lanes` lanes need; and, where `min_lane_use` > 0, at a node whose entered children
-/// its lanes use less than that share of (children entered) x (lanes entering any of them): then
-/// each of those lanes walks the node's subtree alone (Benthin et al. 2012's utilization switch).
-/// `coherence` is the packet's: incoherent lanes walk alone as incoherent rays (they prefetch what
-/// they stack), and only a coherent packet may be walked by its frustum alone.
+/// `single_ray_lanes` lanes need; and, where `min_lane_use` > 0, at a node at a byte offset below
+/// `lane_use_end` whose entered children its lanes use less than that share of (children entered)
+/// x (lanes entering any of them): then each of those lanes walks the node's subtree alone
+/// (Benthin et al. 2012's utilization switch). The nodes being numbered breadth-first, an offset
+/// bound is a bound on the level. `coherence` is the packet's: incoherent lanes walk alone as
+/// incoherent rays (they prefetch what they stack), and only a coherent packet may be walked by its
+/// frustum alone.
 struct PacketSwitch {
     int single_ray_lanes = 1;
     float min_lane_use = 0.0f;
     RayCoherence coherence = RayCoherence::coherent;
+    std::uint32_t lane_use_end = 0;
 };
 
 }  // namespace bvh
@@ -136,6 +139,10 @@ public:
     /// is then traced as single rays without being cut into packets (ray_stream.h).
     bool incoherent_packets_walk_alone() const { return bvh::incoherent_lanes_alone_from_root(blocks_.size()); }
 
+    /// The byte offset past the nodes of the first kIncoherentLaneUseLevels levels, where an
+    /// incoherent packet over a small tree may part (wide_packet_switch).
+    std::uint32_t lane_use_end() const { return lane_use_end_; }
+
     const AccelStats& stats() const { return stats_; }
     const BvhOptions& options() const { return options_; }
     std::span<const Node> nodes() const { return nodes_; }
@@ -183,6 +190,7 @@ private:
 
     HugePageArray<Node> nodes_;
     HugePageArray<Block> blocks_;
+    std::uint32_t lane_use_end_ = 0;
     BvhOptions options_;
     AccelStats stats_;
 };

@@ -32,7 +32,7 @@ namespace trident::bvh {
 /// What a wide tree is made of, with the figures its statistics need.
 template <std::size_t Width, std::size_t BlockSize>
 struct WideArrays {
-    HugePageArray<WideNode<Width>> nodes;  // the root is node 0
+    HugePageArray<WideNode<Width>> nodes;  // breadth-first: the root is node 0, then level by level
     HugePageArray<TriangleBlock<BlockSize>> blocks;
     std::size_t leaves = 0;
     std::size_t references = 0;  // triangles in blocks: those with area
@@ -52,5 +52,22 @@ struct WideArrays {
 template <std::size_t Width, std::size_t BlockSize>
 WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, const Mesh& mesh,
                                               std::span<const TriangleId> ids, std::uint32_t leaf_limit);
+
+/// How many nodes lie at depths below `levels` (the root at depth 0) of a tree whose nodes are
+/// numbered breadth-first, as collapse_to_wide numbers them: nodes 0 to that count - 1.
+template <std::size_t Width>
+std::size_t nodes_above_level(std::span<const WideNode<Width>> nodes, std::size_t levels) {
+    if (nodes.empty() || levels == 0) return 0;
+    std::size_t level_begin = 0, level_end = 1;
+    for (std::size_t level = 1; level < levels && level_begin != level_end; ++level) {
+        std::size_t next_end = level_end;
+        for (std::size_t n = level_begin; n != level_end; ++n)
+            for (const ChildRef child : nodes[n].child)
+                if (!child.is_empty() && !child.is_leaf()) ++next_end;
+        level_begin = level_end;
+        level_end = next_end;
+    }
+    return level_end;
+}
 
 }  // namespace trident::bvh

@@ -119,26 +119,31 @@ typename RayPacket<Arch>::Mask test_triangle_lanes(const Intersector& intersecto
 /// constants of packet_coherence.h: a last single lane goes alone; and a packet whose directions
 /// spread beyond the cone, as diffuse rays do, walks ray by ray: over a tree of at least
 /// kIncoherentAloneMinBlocks blocks every lane alone from the root (Embree's hybrid packets go
-/// single as soon as one of 8 lanes, or two of 16, drops out); over a smaller tree below a node
-/// whose entered children its lanes use less than half. Measured against Embree's packets of the
-/// same rays (one thread, bench/experiments/bvh-traversal.md, "Incoherent packets alone from the
-/// root"): alone from the root took six study scenes' 8-lane diffuse packets from 0.74-0.80x
-/// rtcIntersect8 to 0.91-0.95x and their 16-lane ones from 0.81-0.88x to 0.94-0.96x, but
-/// Teapot's, whose short walks through a tree of under 2000 blocks share most nodes, from
-/// 0.93-1.02x to 0.77-0.82x, where the share of one half keeps them (the 8192 blocks lie between
-/// Teapot's 1.9 thousand and the next scene's 45). Primary and shadow packets stay within the
-/// cone. A caller's explicit threshold (tests, sweeps) means exactly that threshold and no second
-/// rule. Always inlined: called out of line, gcc returned the switch through a stack slot written
-/// in parts and read back whole, whose store-forwarding stall took 9% of Teapot's 8-lane primary
-/// packets on the Zen 5 host (perf; bench/experiments/bvh-traversal.md).
+/// single as soon as one of 8 lanes, or two of 16, drops out); over a smaller tree below a node of
+/// the first two levels whose entered children its lanes use less than half. Measured against
+/// Embree's packets of the same rays (one thread, bench/experiments/bvh-traversal.md, "Incoherent
+/// packets alone from the root"): alone from the root took six study scenes' 8-lane diffuse packets
+/// from 0.74-0.80x rtcIntersect8 to 0.91-0.95x and their 16-lane ones from 0.81-0.88x to
+/// 0.94-0.96x, but Teapot's, whose short walks through a tree of under 2000 blocks share most
+/// nodes, from 0.93-1.02x to 0.77-0.82x, where the share of one half keeps them (the 8192 blocks
+/// lie between Teapot's 1.9 thousand and the next scene's 45). The share at every level cost
+/// Teapot's 8- and 16-lane diffuse packets 4% and 12% against none, where a thinned Bunny's (14
+/// thousand triangles) took twice as long with none: their lanes part at the top of the tree if at
+/// all, and meet again below (bench/experiments/bvh-traversal.md, "Incoherent packets over a small
+/// tree"). Primary and shadow packets stay within the cone. A caller's explicit threshold (tests,
+/// sweeps) means exactly that threshold and no second rule. Always inlined: called out of line, gcc
+/// returned the switch through a stack slot written in parts and read back whole, whose
+/// store-forwarding stall took 9% of Teapot's 8-lane primary packets on the Zen 5 host (perf;
+/// bench/experiments/bvh-traversal.md).
 template <class Arch>
 [[gnu::always_inline]] inline bvh::PacketSwitch wide_packet_switch(const RayPacket<Arch>& rays, int single_ray_lanes,
-                                                                   std::size_t tree_blocks) {
+                                                                   std::size_t tree_blocks,
+                                                                   std::uint32_t lane_use_end) {
     if (single_ray_lanes != kDefaultSingleRayLanes) return {single_ray_lanes, 0.0f};
     if (bvh::directions_within_cone(rays, kCoherentCosine)) return {kWideSingleRayLanes, 0.0f};
     if (bvh::incoherent_lanes_alone_from_root(tree_blocks))
         return {int(RayPacket<Arch>::width), 0.0f, RayCoherence::incoherent};
-    return {kWideSingleRayLanes, kIncoherentMinLaneUse, RayCoherence::incoherent};
+    return {kWideSingleRayLanes, kIncoherentMinLaneUse, RayCoherence::incoherent, lane_use_end};
 }
 
 template <std::size_t Width, std::size_t BlockSize>
@@ -146,7 +151,7 @@ template <TriangleTest Test, SlabTest Slabs, class Arch, class Counters>
 void WideBvh<Width, BlockSize>::intersect(const RayPacket<Arch>& rays, HitPacket<Arch>& hits, Counters& counters,
                                           int single_ray_lanes) const {
     traverse_packet<false, Test, Slabs>(rays, hits, counters,
-                                        wide_packet_switch(rays, single_ray_lanes, blocks_.size()));
+                                        wide_packet_switch(rays, single_ray_lanes, blocks_.size(), lane_use_end_));
 }
 
 template <std::size_t Width, std::size_t BlockSize>
@@ -155,7 +160,7 @@ typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::occluded(const RayPack
                                                                    int single_ray_lanes, LastOccluder* last) const {
     HitPacket<Arch> limits(rays);
     return traverse_packet<true, Test, Slabs>(rays, limits, counters,
-                                              wide_packet_switch(rays, single_ray_lanes, blocks_.size()),
+                                              wide_packet_switch(rays, single_ray_lanes, blocks_.size(), lane_use_end_),
                                               last != nullptr ? &last->id : nullptr);
 }
 
@@ -299,6 +304,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
             // none: any hit ends a lane's search, so the nearest child is no better a guess, and
             // sorting cost shadow packets 3-11% (bench/experiments/bvh-traversal.md).
             const std::size_t base = stack_size;
+            const bool counts_lane_use_here = counts_lane_use && current.node_offset() < to_single_rays.lane_use_end;
             int lane_entries = 0, children_entered = 0;
             Mask entering(false);
             // Child k onto the stack with its order key and, for lane tests, its entry distances
@@ -333,7 +339,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
                     if (node.child[k].is_empty()) break;
                     const auto [enters, t] = bvh::lanes_entering<Slabs>(node, k, rays, hits, lanes, shared_rows);
                     if (!xsimd::any(enters)) continue;
-                    if (counts_lane_use) {
+                    if (counts_lane_use_here) {
                         lane_entries += simd::active_lane_count(enters);
                         ++children_entered;
                         entering = entering | enters;
@@ -343,7 +349,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
                 }
             }
             assert(stack_size <= kStackSize);
-            if (counts_lane_use && children_entered > 1 &&
+            if (counts_lane_use_here && children_entered > 1 &&
                 float(lane_entries) <
                     to_single_rays.min_lane_use * float(children_entered * simd::active_lane_count(entering))) {
                 stack_size = base;  // the lanes walk the node again alone, each in its own order

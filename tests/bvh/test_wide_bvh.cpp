@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "accel/bvh/wide_bvh.h"
+#include "accel/bvh/wide_collapse.h"
 #include "accel/bvh/wide_packet.h"
 #include "bvh_test_helpers.h"
 #include "simd/each_arch.h"
@@ -38,6 +39,7 @@ void check_layout(const WideBvh<Width, BlockSize>& wide, const Mesh& mesh) {
     const std::size_t n = mesh.triangle_count();
     REQUIRE(nodes.empty() == (n == 0));
     std::vector<int> seen(n, 0), node_seen(nodes.size(), 0), with_area(n);
+    std::vector<std::size_t> node_depth(nodes.size(), 0);
     for (std::size_t i = 0; i < n; ++i) with_area[i] = has_area(triangle_of(mesh, i));
     const auto stored = std::size_t(std::count(with_area.begin(), with_area.end(), 1));
     // Spatial splits put a cut triangle in each leaf its pieces reached, each leaf's box around its pieces.
@@ -47,6 +49,7 @@ void check_layout(const WideBvh<Width, BlockSize>& wide, const Mesh& mesh) {
     auto walk = [&](auto&& self, std::uint32_t index, std::size_t depth) -> void {
         REQUIRE(index < nodes.size());
         ++node_seen[index];
+        node_depth[index] = depth;
         const typename Tree::Node& node = nodes[index];
         bool empty_seen = false;
         for (std::size_t k = 0; k < Width; ++k) {
@@ -97,6 +100,16 @@ void check_layout(const WideBvh<Width, BlockSize>& wide, const Mesh& mesh) {
         }
     };
     if (!nodes.empty()) walk(walk, 0, 0);
+    // Numbered breadth-first: a level's nodes follow the level above, so the first levels are the
+    // first nodes and the packet switch's offset bound on the level (wide_packet_switch) holds.
+    CHECK(std::is_sorted(node_depth.begin(), node_depth.end()));
+    for (std::size_t levels = 0; levels <= max_depth + 1; ++levels) {
+        CAPTURE(levels);
+        const auto above = std::size_t(
+            std::count_if(node_depth.begin(), node_depth.end(), [&](std::size_t d) { return d < levels; }));
+        CHECK(bvh::nodes_above_level<Width>(nodes, levels) == above);
+        if (levels == kIncoherentLaneUseLevels) CHECK(wide.lane_use_end() == above * sizeof(typename Tree::Node));
+    }
     CHECK(wrong_corners == 0);
     CHECK(outside_box == 0);
     CHECK(unpacked_slots == 0);
@@ -523,10 +536,11 @@ TEST_CASE(
         CHECK_FALSE(bvh::directions_within_cone(packet_turned_by(40.0f), kCoherentCosine));
         CHECK_FALSE(bvh::directions_within_cone(packet_turned_by(180.0f), kCoherentCosine));
         constexpr std::size_t kSmallTree = kIncoherentAloneMinBlocks - 1, kLargeTree = kIncoherentAloneMinBlocks;
+        constexpr std::uint32_t kLaneUseEnd = 5 * 1024;  // a tree's offset past its first levels' nodes
         for (const std::size_t blocks : {kSmallTree, kLargeTree}) {
             const bvh::PacketSwitch coherent =
-                wide_packet_switch(packet_turned_by(20.0f), kDefaultSingleRayLanes, blocks);
-            const bvh::PacketSwitch asked = wide_packet_switch(packet_turned_by(40.0f), 3, blocks);
+                wide_packet_switch(packet_turned_by(20.0f), kDefaultSingleRayLanes, blocks, kLaneUseEnd);
+            const bvh::PacketSwitch asked = wide_packet_switch(packet_turned_by(40.0f), 3, blocks, kLaneUseEnd);
             CHECK(coherent.single_ray_lanes == kWideSingleRayLanes);
             CHECK(coherent.min_lane_use == 0.0f);
             CHECK(coherent.coherence == RayCoherence::coherent);
@@ -535,12 +549,13 @@ TEST_CASE(
             CHECK(asked.coherence == RayCoherence::coherent);
         }
         const bvh::PacketSwitch spread_small =
-            wide_packet_switch(packet_turned_by(40.0f), kDefaultSingleRayLanes, kSmallTree);
+            wide_packet_switch(packet_turned_by(40.0f), kDefaultSingleRayLanes, kSmallTree, kLaneUseEnd);
         CHECK(spread_small.single_ray_lanes == kWideSingleRayLanes);
         CHECK(spread_small.min_lane_use == kIncoherentMinLaneUse);
+        CHECK(spread_small.lane_use_end == kLaneUseEnd);
         CHECK(spread_small.coherence == RayCoherence::incoherent);
         const bvh::PacketSwitch spread_large =
-            wide_packet_switch(packet_turned_by(40.0f), kDefaultSingleRayLanes, kLargeTree);
+            wide_packet_switch(packet_turned_by(40.0f), kDefaultSingleRayLanes, kLargeTree, kLaneUseEnd);
         CHECK(spread_large.single_ray_lanes == int(RayPacket<Arch>::width));
         CHECK(spread_large.min_lane_use == 0.0f);
         CHECK(spread_large.coherence == RayCoherence::incoherent);
