@@ -240,6 +240,8 @@ WideArrays<Width, BlockSize> collapse_to_wide(std::span<const BvhNode> nodes, co
     };
 
     // Plan serially (a few operations a wide node), children of a node numbered side by side.
+    // Taking the planned nodes in order as a queue numbers them breadth-first, level by level:
+    // the packet switch bounds the level of a node by its offset (nodes_above_level).
     std::vector<PlannedNode<Width>> planned;
     std::vector<PlannedLeaf> leaves;
     std::vector<std::uint32_t> leaf_sources;  // the leaves' triangles, leaf by leaf
