@@ -44,11 +44,11 @@ namespace trident {
 namespace bvh {
 
 /// When the packet walk hands lanes to the single-ray walk: at a subtree that at most
-/// `single_ray_lanes` lanes need; and, where `min_lane_use` > 0, at a node at a byte offset below
-/// `lane_use_end` whose entered children its lanes use less than that share of (children entered)
-/// x (lanes entering any of them): then each of those lanes walks the node's subtree alone
-/// (Benthin et al. 2012's utilization switch). The nodes being numbered breadth-first, an offset
-/// bound is a bound on the level. `coherence` is the packet's: incoherent lanes walk alone as
+/// `single_ray_lanes` lanes need; and at a node at a byte offset below `lane_use_end` (none by
+/// default) whose entered children its lanes use less than `min_lane_use` of (children entered) x
+/// (lanes entering any of them): then each of those lanes walks the node's subtree alone (Benthin
+/// et al. 2012's utilization switch). The nodes being numbered breadth-first, an offset bound is a
+/// bound on the level. `coherence` is the packet's: incoherent lanes walk alone as
 /// incoherent rays (they prefetch what they stack), and only a coherent packet may be walked by its
 /// frustum alone.
 struct PacketSwitch {

@@ -208,7 +208,6 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
     using Float = typename RayPacket<Arch>::Float;
     using Mask = typename RayPacket<Arch>::Mask;
     const int single_ray_lanes = to_single_rays.single_ray_lanes;
-    const bool counts_lane_use = to_single_rays.min_lane_use > 0.0f;
     // Lanes of an incoherent packet that go alone walk as incoherent rays, and only a coherent
     // packet walks by the frustum alone.
     const RayCoherence coherence = to_single_rays.coherence;
@@ -304,7 +303,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
             // none: any hit ends a lane's search, so the nearest child is no better a guess, and
             // sorting cost shadow packets 3-11% (bench/experiments/bvh-traversal.md).
             const std::size_t base = stack_size;
-            const bool counts_lane_use_here = counts_lane_use && current.node_offset() < to_single_rays.lane_use_end;
+            const bool counts_lane_use = current.node_offset() < to_single_rays.lane_use_end;
             int lane_entries = 0, children_entered = 0;
             Mask entering(false);
             // Child k onto the stack with its order key and, for lane tests, its entry distances
@@ -339,7 +338,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
                     if (node.child[k].is_empty()) break;
                     const auto [enters, t] = bvh::lanes_entering<Slabs>(node, k, rays, hits, lanes, shared_rows);
                     if (!xsimd::any(enters)) continue;
-                    if (counts_lane_use_here) {
+                    if (counts_lane_use) {
                         lane_entries += simd::active_lane_count(enters);
                         ++children_entered;
                         entering = entering | enters;
@@ -349,7 +348,7 @@ TRIDENT_FLATTEN typename RayPacket<Arch>::Mask WideBvh<Width, BlockSize>::traver
                 }
             }
             assert(stack_size <= kStackSize);
-            if (counts_lane_use_here && children_entered > 1 &&
+            if (counts_lane_use && children_entered > 1 &&
                 float(lane_entries) <
                     to_single_rays.min_lane_use * float(children_entered * simd::active_lane_count(entering))) {
                 stack_size = base;  // the lanes walk the node again alone, each in its own order

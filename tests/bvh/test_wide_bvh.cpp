@@ -543,9 +543,11 @@ TEST_CASE(
             const bvh::PacketSwitch asked = wide_packet_switch(packet_turned_by(40.0f), 3, blocks, kLaneUseEnd);
             CHECK(coherent.single_ray_lanes == kWideSingleRayLanes);
             CHECK(coherent.min_lane_use == 0.0f);
+            CHECK(coherent.lane_use_end == 0);
             CHECK(coherent.coherence == RayCoherence::coherent);
             CHECK(asked.single_ray_lanes == 3);
             CHECK(asked.min_lane_use == 0.0f);
+            CHECK(asked.lane_use_end == 0);
             CHECK(asked.coherence == RayCoherence::coherent);
         }
         const bvh::PacketSwitch spread_small =
@@ -558,6 +560,7 @@ TEST_CASE(
             wide_packet_switch(packet_turned_by(40.0f), kDefaultSingleRayLanes, kLargeTree, kLaneUseEnd);
         CHECK(spread_large.single_ray_lanes == int(RayPacket<Arch>::width));
         CHECK(spread_large.min_lane_use == 0.0f);
+        CHECK(spread_large.lane_use_end == 0);
         CHECK(spread_large.coherence == RayCoherence::incoherent);
         // Two lanes opposite each other: the second lies outside every cone around the first.
         CHECK_FALSE(bvh::directions_within_cone(packet_turned_by(180.0f, 2), kCoherentCosine));
