@@ -61,7 +61,8 @@ void PacketKernels<Structure, Arch>::intersect(const Structure& structure, const
 }
 template <class Structure, class Arch>
 void PacketKernels<Structure, Arch>::intersect(const Structure& structure, const Rays& rays, Hits& hits,
-                                               TraversalCounters& counters, PacketVariant variant) {
+                                               TraversalCounters& counters,
+                                               PacketVariant variant) requires kOwnWidthArch<Arch> {
     detail::intersect_variant(structure, rays, hits, counters, variant);
 }
 template <class Structure, class Arch>
@@ -71,7 +72,8 @@ auto PacketKernels<Structure, Arch>::occluded(const Structure& structure, const 
 }
 template <class Structure, class Arch>
 auto PacketKernels<Structure, Arch>::occluded(const Structure& structure, const Rays& rays, TraversalCounters& counters,
-                                              PacketVariant variant, LastOccluder* last) -> Mask {
+                                              PacketVariant variant, LastOccluder* last)
+    -> Mask requires kOwnWidthArch<Arch> {
     return detail::occluded_variant(structure, rays, counters, variant, last);
 }
 

@@ -9,11 +9,13 @@
 // The triangle test, the slab test and the single-ray threshold are run-time arguments here and
 // compile-time ones inside: one switch per packet, against thousands of cycles of traversal.
 #include <cstdint>
+#include <type_traits>
 
 #include "accel/accel_stats.h"
 #include "core/intersect_triangle.h"
 #include "core/slab_test.h"
 #include "simd/packet.h"
+#include "simd/width.h"
 
 namespace trident {
 
@@ -39,10 +41,20 @@ struct LastOccluder {
     std::uint32_t id = kNone;
 };
 
+/// Whether `Arch` is a packet width's own architecture (ArchOf), not a narrower width's lanes
+/// compiled into a wider kernel file (the portable build's LanesIn, simd/kernel_arch.h).
+template <class Arch>
+inline constexpr bool kOwnWidthArch =
+    std::is_same_v<Arch, ArchOf<SimdWidth::w4>> || std::is_same_v<Arch, ArchOf<SimdWidth::w8>> ||
+    std::is_same_v<Arch, ArchOf<SimdWidth::w16>>;
+
 /// Closest hit per live lane into `hits` (constructed from the rays), or the lanes that hit
 /// anything: per lane what the structure's single-ray traversal answers (each structure's header
 /// says where that holds bit for bit). Counters count per packet; counted traversals take the
-/// robust slab test only (std::invalid_argument for the fast one).
+/// robust slab test only (std::invalid_argument for the fast one). They exist for a width's own
+/// architecture only: heat maps and the counter tests count in the width's own kernel file, so a
+/// wider file's copies of the narrower packets (which an explicit instantiation of the struct
+/// leaves out, their constraint unmet) would be compiled for nothing.
 template <class Structure, class Arch>
 struct PacketKernels {
     using Rays = RayPacket<Arch>;
@@ -51,11 +63,11 @@ struct PacketKernels {
     static void intersect(const Structure& structure, const Rays& rays, Hits& hits, NoCounters& counters,
                           PacketVariant variant);
     static void intersect(const Structure& structure, const Rays& rays, Hits& hits, TraversalCounters& counters,
-                          PacketVariant variant);
+                          PacketVariant variant) requires kOwnWidthArch<Arch>;
     static Mask occluded(const Structure& structure, const Rays& rays, NoCounters& counters, PacketVariant variant,
                          LastOccluder* last = nullptr);
     static Mask occluded(const Structure& structure, const Rays& rays, TraversalCounters& counters,
-                         PacketVariant variant, LastOccluder* last = nullptr);
+                         PacketVariant variant, LastOccluder* last = nullptr) requires kOwnWidthArch<Arch>;
 };
 
 /// The same with the structure and the architecture deduced.

@@ -82,7 +82,8 @@ void RenderKernels<Structure, Width, File>::trace_primary_tile(const Structure& 
 template <class Structure, SimdWidth Width, SimdWidth File>
 void RenderKernels<Structure, Width, File>::count_primary_tile(const Structure& structure, const Camera& camera,
                                                                const ImageTile& tile,
-                                                               std::span<TraversalCounters> counts, TriangleTest test) {
+                                                               std::span<TraversalCounters> counts,
+                                                               TriangleTest test) requires(Width == File) {
     static_assert(kDefinedHere<Width, File>);
     using Arch = PacketArchInFile<Width>;
     trace_primary_blocks<Arch, TraversalCounters>(

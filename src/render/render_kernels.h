@@ -46,9 +46,10 @@ struct RenderKernels {
     /// The closest hits of the tile's primary rays into `hits` (the image's, row-major).
     static void trace_primary_tile(const Structure& structure, const Camera& camera, const ImageTile& tile,
                                    std::span<Hit> hits, PacketVariant variant);
-    /// Each of the tile's pixels gets its packet's counters (the robust slab test).
+    /// Each of the tile's pixels gets its packet's counters (the robust slab test). In the width's
+    /// own file only, where its counted packet traversals are (PacketKernels).
     static void count_primary_tile(const Structure& structure, const Camera& camera, const ImageTile& tile,
-                                   std::span<TraversalCounters> counts, TriangleTest test);
+                                   std::span<TraversalCounters> counts, TriangleTest test) requires(Width == File);
     /// A list of rays cut into packets as `grouping` says (for_each_stream_packet), each gathered,
     /// walked and its results written to out[i]: the closest hits, or the occluded rays as 1, the
     /// shadow packets carrying the last occluder from packet to packet when `last_occluder` is set
