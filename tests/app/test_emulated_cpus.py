@@ -77,8 +77,9 @@ def main():
 
         def render(prefix, structure, simd, name):
             hits = os.path.join(scratch, name + ".hits")
-            done = run(prefix + [trident, "render", scene] + RENDER + ["--accel", structure, "--simd", simd, "--output",
-                                                     os.path.join(scratch, "image.png"), "--dump-hits", hits])
+            done = run(prefix + [trident, "render", scene] + RENDER +
+                       ["--accel", structure, "--simd", simd, "--output", os.path.join(scratch, "image.png"),
+                        "--dump-hits", hits])
             return done, hits
 
         for structure in STRUCTURES:
